@@ -1,0 +1,52 @@
+// ewis info: one JSON object about a scan (CONTRACT.md "ewis info").
+#include <iostream>
+
+#include "common.hpp"
+#include "ewis/filter/resolution.hpp"
+#include "ewis/io/cloud_io.hpp"
+#include "ewis/search/kdtree.hpp"
+
+namespace ewis::cli {
+
+Command add_info(CLI::App& root, CommonOptions& common) {
+  struct Options {
+    std::string scan;
+    std::string units = "mm";
+  };
+  auto opt = std::make_shared<Options>();
+  Command cmd;
+  cmd.app = root.add_subcommand("info", "Print point count, fields, bounds and resolution of a scan as JSON");
+  cmd.app->add_option("--scan", opt->scan, "Point cloud (PLY, PCD, XYZ)")->required();
+  cmd.app->add_option("--scan-units", opt->units, "Units of the scan: mm, m or in")->check(CLI::IsMember({"mm", "m", "in"}));
+  add_common_options(cmd.app, common);
+  cmd.run = [opt, &common]() -> int {
+    const CloudFile file = read_cloud(opt->scan, parse_length_unit(opt->units));
+    nlohmann::json out;
+    out["points"] = file.cloud.size();
+    out["dropped_nonfinite"] = file.dropped_nonfinite;
+    out["fields"] = file.fields;
+    Eigen::Vector3f lo, hi;
+    if (bounds(file.cloud.points, lo, hi)) {
+      out["bounds_min"] = to_json_vec3(lo.x(), lo.y(), lo.z());
+      out["bounds_max"] = to_json_vec3(hi.x(), hi.y(), hi.z());
+    } else {
+      out["bounds_min"] = nullptr;
+      out["bounds_max"] = nullptr;
+    }
+    if (file.cloud.size() >= 2) {
+      const KdTree tree(file.cloud.points);
+      out["resolution_mm"] = spatial_resolution(tree).mean_mm;
+    } else {
+      out["resolution_mm"] = nullptr;
+    }
+    if (file.height > 1) {
+      out["width"] = file.width;
+      out["height"] = file.height;
+    }
+    std::cout << out.dump() << std::endl;
+    return 0;
+  };
+  return cmd;
+}
+
+}  // namespace ewis::cli

@@ -1,0 +1,15 @@
+# ewis_stage(NAME DEPS a b PRIVATE_DEPS c): library ewis_NAME from src/NAME/*.cpp.
+# A stage without sources yet is an INTERFACE library, so the stages can land one by one.
+function(ewis_stage name)
+  cmake_parse_arguments(ARG "" "" "DEPS;PRIVATE_DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${name}/*.cpp)
+  if(sources)
+    add_library(ewis_${name} STATIC ${sources})
+    target_include_directories(ewis_${name} PUBLIC ${PROJECT_SOURCE_DIR}/include)
+    target_link_libraries(ewis_${name} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  else()
+    add_library(ewis_${name} INTERFACE)
+    target_include_directories(ewis_${name} INTERFACE ${PROJECT_SOURCE_DIR}/include)
+    target_link_libraries(ewis_${name} INTERFACE ${ARG_DEPS} ${ARG_PRIVATE_DEPS})
+  endif()
+endfunction()

@@ -1,0 +1,44 @@
+#pragma once
+// k-d tree over a cloud's positions (nanoflann 1.4 inside; kept out of this header for compile times).
+// The tree references `points`, which must outlive it and not change.
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace ewis {
+
+struct Neighbor {
+  std::uint32_t index;
+  float distance_sq;  // squared distance, mm^2
+};
+
+class KdTree {
+ public:
+  explicit KdTree(const std::vector<Eigen::Vector3f>& points);
+  ~KdTree();
+  KdTree(KdTree&&) noexcept;
+  KdTree& operator=(KdTree&&) noexcept;
+
+  std::size_t size() const;
+  const std::vector<Eigen::Vector3f>& points() const;
+
+  // The k nearest points (fewer when the cloud is smaller), nearest first; ties by index.
+  void knn(const Eigen::Vector3f& query, int k, std::vector<Neighbor>& out) const;
+  // Nearest point; index -1 (as uint32 max) and infinite distance when the tree is empty.
+  Neighbor nearest(const Eigen::Vector3f& query) const;
+  // All points within radius_mm (inclusive), sorted by distance then index.
+  void radius(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const;
+  // Number of points within radius_mm, stopping early once `stop_at` are found.
+  std::size_t count_within(const Eigen::Vector3f& query, float radius_mm, std::size_t stop_at) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Batched queries in parallel; results independent of the thread count.
+// For each query: nearest neighbour (index, squared distance).
+std::vector<Neighbor> nearest_batch(const KdTree& tree, const std::vector<Eigen::Vector3f>& queries);
+
+}  // namespace ewis
