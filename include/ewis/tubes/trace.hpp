@@ -1,0 +1,87 @@
+#pragma once
+// Tracing a tube (cable, hose, pipe, branch) through a scan as a chain of cylinders: the search structure of
+// paper 4.2 (initialisation 4.2.1, sphere + antipodal points 4.2.2, sub-cable fit 4.2.3, propagation 4.2.4).
+// Self-contained: needs only the scan and its k-d tree (the "cylindrical shape segmentation library").
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ewis/core/cloud.hpp"
+#include "ewis/core/cylinder.hpp"
+#include "ewis/search/kdtree.hpp"
+
+namespace ewis {
+
+struct TubeParams {
+  double radius_mm = 0.0;          // expected radius (a hint); <= 0: estimated at the seed
+  double resolution_mm = 0.0;      // scan point spacing; <= 0: measured near the seed
+  double max_length_mm = 20000.0;  // hard bound on the traced length (no endless loops)
+  double max_gap_mm = 0.0;         // longest stretch bridged without data; <= 0: 3 x diameter
+  // Optional: called with a candidate centreline point; true stops the trace there (e.g. the cable enters
+  // an attached clamp or connector). Called once per step (a few more at the last one), never per point.
+  std::function<bool(const Eigen::Vector3d&)> stop_at;
+  // Optional: per scan point, 0 = not usable (e.g. belongs to a rigid CAD element); empty: all usable.
+  const std::vector<std::uint8_t>* usable = nullptr;
+
+  // Optional sensor position (scan frame; the origin when the scan is in the sensor frame): residuals of
+  // the sub-cable fit are then measured along the camera rays, the direction of the sensor's noise.
+  bool has_sensor = false;
+  Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();
+
+  // Propagation (paper 4.2.4); <= 0: derived from the radius and the resolution.
+  double step_mm = 0.0;               // sub-cable length (default: one radius, at least 4 x resolution)
+  double surface_tolerance_mm = 0.0;  // shell half-width around the fitted surface (default ~0.15 r)
+  double max_turn_deg = 35.0;         // larger direction change between neighbouring sub-cables: the end
+  double max_radius_change = 0.3;     // larger relative radius change than this: the end
+  double search_cone_deg = 30.0;      // directions searched around the current one each step
+};
+
+struct SubCable {
+  Cylinder cylinder;        // start -> end along the trace direction
+  std::uint32_t points = 0; // scan points inside (0 for a bridged stretch)
+  double rms_mm = 0.0;      // fit residual (distance to the surface)
+  bool bridged = false;     // true: a gap bridged without data (its radius is the neighbours')
+};
+
+struct TubeGap {
+  Eigen::Vector3d start, end;  // bridged without data
+};
+
+struct TubeTrace {
+  bool found = false;
+  Eigen::Vector3d seed = Eigen::Vector3d::Zero();
+  double radius_mm = 0.0;                      // measured (median over the fitted sub-cables)
+  double rms_mm = 0.0;                         // median fit residual of the sub-cables
+  std::vector<SubCable> segments;              // ordered from one end to the other, end_i == start_{i+1}
+                                               // (gaps appear as `bridged` sub-cables and in `gaps`)
+  std::vector<Eigen::Vector3d> centerline;     // smooth, end to end, consecutive points <= radius apart
+  double length_mm = 0.0;                      // centreline length
+  std::vector<std::uint32_t> points;           // scan points assigned to the tube (paper 4.3.2 set S), sorted
+  std::vector<TubeGap> gaps;
+  std::string end_reason_front, end_reason_back;  // why each end stopped ("no data", "stop region", ...)
+};
+
+// Traces the tube through (or nearest to) `seed`, in both directions.
+TubeTrace trace_tube(const Cloud& cloud, const KdTree& tree, const Eigen::Vector3d& seed, const TubeParams& params);
+
+// CAD-guided tracing (paper 4.2.1): `cad_points` are the registered CAD cable's sample points (scan frame);
+// the start sphere is chosen among them by the count of scan points inside a sphere of the cable radius,
+// refined by the two-step re-centring of Fig. 8d, falling back to the next candidate when it fails.
+TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<Eigen::Vector3d>& cad_points,
+                      double radius_mm, const TubeParams& params);
+
+// --- helpers on a finished trace ---
+
+// Distance from p to the traced chain's axis (segments, bridged ones included); infinity when empty.
+double distance_to_chain(const TubeTrace& trace, const Eigen::Vector3d& p);
+
+// Fraction (0..1) of the length of `reference` (a polyline, e.g. the CAD cable's centreline) that lies
+// within `tolerance_mm` of the traced chain: the coverage of the measured cable relative to the CAD one.
+double chain_coverage(const TubeTrace& trace, const std::vector<Eigen::Vector3d>& reference, double tolerance_mm);
+
+// Length of a polyline.
+double polyline_length(const std::vector<Eigen::Vector3d>& polyline);
+
+}  // namespace ewis
