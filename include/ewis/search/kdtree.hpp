@@ -1,6 +1,8 @@
 #pragma once
 // k-d tree over a cloud's positions (nanoflann 1.4 inside; kept out of this header for compile times).
-// The tree references `points`, which must outlive it and not change.
+// The tree references `points`, which must outlive it and not change. Non-finite points (NaNs of organized
+// scans) are never returned by a query; non-finite queries find nothing. All queries are thread-safe.
+// Memory: the tree keeps a leaf-ordered copy of the finite points plus their indices (16 bytes per point).
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
@@ -22,6 +24,9 @@ class KdTree {
 
   std::size_t size() const;
   const std::vector<Eigen::Vector3f>& points() const;
+  // The indices of the finite points in the tree's leaf order (neighbours in space are neighbours here):
+  // whole-cloud passes that query every point in this order hit the cache far more often.
+  const std::vector<std::uint32_t>& spatial_order() const;
 
   // The k nearest points (fewer when the cloud is smaller), nearest first; ties by index.
   void knn(const Eigen::Vector3f& query, int k, std::vector<Neighbor>& out) const;
@@ -29,8 +34,11 @@ class KdTree {
   Neighbor nearest(const Eigen::Vector3f& query) const;
   // All points within radius_mm (inclusive), sorted by distance then index.
   void radius(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const;
-  // Number of points within radius_mm, stopping early once `stop_at` are found.
+  // Number of points within radius_mm (inclusive), stopping early once `stop_at` are found.
   std::size_t count_within(const Eigen::Vector3f& query, float radius_mm, std::size_t stop_at) const;
+  // All points within radius_mm (inclusive) in the tree's visiting order (deterministic, not sorted):
+  // for callers that only need the set (clustering), it saves the sort.
+  void radius_unsorted(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const;
 
  private:
   struct Impl;
@@ -40,5 +48,7 @@ class KdTree {
 // Batched queries in parallel; results independent of the thread count.
 // For each query: nearest neighbour (index, squared distance).
 std::vector<Neighbor> nearest_batch(const KdTree& tree, const std::vector<Eigen::Vector3f>& queries);
+// For each query: its k nearest (fewer when the cloud is smaller), nearest first, ties by index.
+std::vector<std::vector<Neighbor>> knn_batch(const KdTree& tree, const std::vector<Eigen::Vector3f>& queries, int k);
 
 }  // namespace ewis
