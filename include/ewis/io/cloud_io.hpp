@@ -1,5 +1,6 @@
 #pragma once
 // Point-cloud files: PLY (ascii, binary LE/BE), PCD v0.5/v0.7 (ascii, binary, binary_compressed/LZF), XYZ/TXT.
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -30,5 +31,6 @@ void write_ply(const Cloud& cloud, const std::string& path);
 void write_pcd(const Cloud& cloud, const std::string& path, bool compressed = false);
 // Writes a whole file atomically (temporary name beside it, then rename); throws InputError on failure.
 void write_file_atomic(const std::string& path, const std::string& contents);
+void write_file_atomic(const std::string& path, const void* data, std::size_t size);
 
 }  // namespace ewis
