@@ -12,6 +12,10 @@
 
 namespace ewis {
 
+namespace detail {
+struct RaycasterAccess;  // the camera-block fast path of render() (src/raycast/)
+}
+
 inline constexpr std::uint32_t kNoElement = std::numeric_limits<std::uint32_t>::max();
 
 struct Ray {
@@ -32,6 +36,10 @@ class Raycaster {
  public:
   // `include`: per element, whether it takes part (empty: all elements). The scene must outlive this.
   explicit Raycaster(const Scene& scene, const std::vector<bool>& include = {});
+  // `packet_width`: rays per Embree packet in batch casts and renders: 1 (single rays), 4, 8 or 16;
+  // 0 picks the widest packet the CPU supports natively. Every width gives the same hits (up to rounding
+  // for rays grazing a triangle edge).
+  Raycaster(const Scene& scene, const std::vector<bool>& include, int packet_width);
   ~Raycaster();
   Raycaster(Raycaster&&) noexcept;
   Raycaster& operator=(Raycaster&&) noexcept;
@@ -41,8 +49,15 @@ class Raycaster {
   bool occluded(const Ray& ray) const;  // any hit before tmax
   // Many rays, in parallel and in coherent packets where possible.
   void cast(const std::vector<Ray>& rays, std::vector<Hit>& hits) const;
+  // One packet of up to kMaxPacket coherent rays (e.g. a small pixel tile), cast together on this thread.
+  static constexpr int kMaxPacket = 16;
+  void cast_packet(const Ray* rays, int count, Hit* hits) const;
+  int packet_width() const;  // the width in use (1, 4, 8 or 16)
+  // Whether element e takes part (the `include` mask).
+  bool included(std::uint32_t element) const;
 
  private:
+  friend struct detail::RaycasterAccess;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -24,4 +24,10 @@ struct MeshSamples {
 // Deterministic for a seed, independent of the thread count.
 MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params);
 
+// Near-uniform (blue-noise) variant: draws `oversample` times as many area-weighted candidates per element,
+// then removes the candidates with the most close neighbours (weighted sample elimination, Yuksel 2015)
+// until about area / spacing^2 remain per element. No clumps and no holes, so every part of the CAD gets
+// the same weight in registration. Same fields, seed and thread-count independence as sample_mesh.
+MeshSamples sample_mesh_uniform(const Scene& scene, const MeshSamplingParams& params, double oversample = 4.0);
+
 }  // namespace ewis

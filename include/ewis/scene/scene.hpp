@@ -43,7 +43,8 @@ void update_element_stats(Scene& scene);
 // `dropped_degenerate` when given. Throws InputError(path, what) on a missing, unreadable or empty file.
 Scene load_scene(const std::string& path, std::size_t* dropped_degenerate = nullptr);
 
-// Writes a Wavefront OBJ with one `o NAME` per element (atomic: temporary file + rename).
+// Writes a Wavefront OBJ with one `o NAME` per element (atomic: temporary file + rename). Blanks in names
+// are written as '_' (Assimp ends OBJ object names at a blank).
 void write_obj(const Scene& scene, const std::string& path);
 
 }  // namespace ewis

@@ -1,0 +1,159 @@
+// Area-weighted random sampling of CAD triangles (paper 4.1.1).
+#include "ewis/sample/mesh_sampling.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "ewis/core/error.hpp"
+#include "ewis/core/parallel.hpp"
+
+namespace ewis {
+namespace {
+
+// splitmix64: a tiny, well-mixed generator whose output is the same on every platform and library
+// (std::uniform_real_distribution is not specified bit for bit).
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+};
+
+std::uint64_t mix(std::uint64_t a, std::uint64_t b) {
+  SplitMix64 g{a ^ (b * 0xD1B54A32D192ED03ull)};
+  g.next();
+  return g.next();
+}
+
+constexpr std::size_t kBlock = 4096;  // samples per RNG stream: fixes the streams independently of threads
+
+struct ElementPlan {
+  int element = 0;
+  std::size_t count = 0;
+  std::size_t offset = 0;           // first output index
+  std::vector<double> cumulative;   // cumulative triangle areas of the element
+};
+
+std::vector<std::size_t> counts_for(const std::vector<double>& areas, double spacing) {
+  std::vector<std::size_t> c(areas.size());
+  for (std::size_t i = 0; i < areas.size(); ++i) {
+    const double n = std::round(areas[i] / (spacing * spacing));
+    c[i] = areas[i] > 0 ? std::max<std::size_t>(1, static_cast<std::size_t>(std::min(n, 1e15))) : 0;
+  }
+  return c;
+}
+
+}  // namespace
+
+MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
+  if (!(params.spacing_mm > 0) || !std::isfinite(params.spacing_mm))
+    throw InputError("", "mesh sampling spacing must be a positive number (mm)");
+  std::vector<int> selected = params.elements;
+  if (selected.empty())
+    for (std::size_t e = 0; e < scene.elements.size(); ++e) selected.push_back(static_cast<int>(e));
+  for (int e : selected)
+    if (e < 0 || std::size_t(e) >= scene.elements.size())
+      throw InputError("", "mesh sampling: element index " + std::to_string(e) + " out of range");
+
+  std::vector<double> areas(selected.size());
+  for (std::size_t i = 0; i < selected.size(); ++i) areas[i] = scene.elements[selected[i]].area_mm2;
+
+  // paper 4.1.1: the number of points per element follows its area (count = area / spacing^2).
+  double spacing = params.spacing_mm;
+  std::vector<std::size_t> counts = counts_for(areas, spacing);
+  auto total_of = [](const std::vector<std::size_t>& c) {
+    std::size_t t = 0;
+    for (std::size_t x : c) t += x;
+    return t;
+  };
+  if (params.max_points > 0) {
+    // Raise the spacing until the cap holds (bounded: each step grows the spacing by at least 1%).
+    for (int it = 0; it < 200 && total_of(counts) > params.max_points; ++it) {
+      spacing *= std::max(1.01, std::sqrt(double(total_of(counts)) / double(params.max_points)));
+      counts = counts_for(areas, spacing);
+    }
+    // Still over only when there are more non-empty elements than max_points: keep the first ones.
+    std::size_t budget = params.max_points;
+    for (std::size_t& c : counts) {
+      c = std::min(c, budget);
+      budget -= c;
+    }
+  }
+
+  std::vector<ElementPlan> plans;
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < selected.size(); ++i) {
+    if (counts[i] == 0) continue;
+    ElementPlan p;
+    p.element = selected[i];
+    p.count = counts[i];
+    p.offset = total;
+    total += p.count;
+    const Element& e = scene.elements[p.element];
+    p.cumulative.resize(e.triangle_count);
+    double acc = 0;
+    for (std::uint32_t t = 0; t < e.triangle_count; ++t) {
+      const Eigen::Vector3i& tri = scene.triangles[e.first_triangle + t];
+      const Eigen::Vector3d a = scene.vertices[tri[0]].cast<double>();
+      acc += 0.5 * (scene.vertices[tri[1]].cast<double>() - a).cross(scene.vertices[tri[2]].cast<double>() - a).norm();
+      p.cumulative[t] = acc;
+    }
+    if (!(acc > 0)) {
+      total -= p.count;
+      continue;
+    }
+    plans.push_back(std::move(p));
+  }
+
+  MeshSamples out;
+  out.cloud.points.resize(total);
+  out.cloud.normals.resize(total);
+  out.element.resize(total);
+  out.triangle.resize(total);
+
+  // Work items: (plan, block of kBlock samples), each with its own RNG stream seeded from
+  // (seed, element, block), so results do not depend on the thread count or scheduling.
+  struct Item {
+    std::size_t plan, begin, end, block;
+  };
+  std::vector<Item> items;
+  for (std::size_t p = 0; p < plans.size(); ++p)
+    for (std::size_t b = 0, s = 0; s < plans[p].count; ++b, s += kBlock)
+      items.push_back({p, s, std::min(plans[p].count, s + kBlock), b});
+
+  parallel_for_each_index(items.size(), [&](std::size_t k) {
+    const Item& it = items[k];
+    const ElementPlan& p = plans[it.plan];
+    const Element& e = scene.elements[p.element];
+    SplitMix64 rng{mix(mix(params.seed, static_cast<std::uint64_t>(p.element)), it.block)};
+    const double total_area = p.cumulative.back();
+    for (std::size_t s = it.begin; s < it.end; ++s) {
+      // Triangle with probability proportional to its area: binary search in the cumulative areas.
+      const double pick = rng.uniform() * total_area;
+      std::size_t t = std::upper_bound(p.cumulative.begin(), p.cumulative.end(), pick) - p.cumulative.begin();
+      t = std::min(t, p.cumulative.size() - 1);
+      const std::uint32_t tri_index = e.first_triangle + static_cast<std::uint32_t>(t);
+      const Eigen::Vector3i& tri = scene.triangles[tri_index];
+      const Eigen::Vector3d a = scene.vertices[tri[0]].cast<double>();
+      const Eigen::Vector3d b = scene.vertices[tri[1]].cast<double>();
+      const Eigen::Vector3d c = scene.vertices[tri[2]].cast<double>();
+      // Uniform point in the triangle (Osada et al.): r1 = sqrt(u1) makes the density uniform.
+      const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
+      const Eigen::Vector3d q = (1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c;
+      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+      const std::size_t o = p.offset + s;
+      out.cloud.points[o] = q.cast<float>();
+      out.cloud.normals[o] = n.cast<float>();
+      out.element[o] = static_cast<std::uint32_t>(p.element);
+      out.triangle[o] = tri_index;
+    }
+  }, 1);
+  return out;
+}
+
+}  // namespace ewis
