@@ -7,6 +7,7 @@ packages=(
   libspdlog-dev libfmt-dev liblzf-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
+  chromium fonts-dejavu-core
 )
 missing=()
 for p in "${packages[@]}"; do
