@@ -1,0 +1,53 @@
+"""ewis simulate as CONTRACT.md fixes it: the scene folder, truth and plan valid against the schemas, seeds."""
+import filecmp
+import json
+import os
+import unittest
+
+from ewis_cli import run, tmpdir, validate
+
+FILES = ["scene.obj", "plan.json", "scan.ply", "pose.txt", "truth.json"]
+
+
+class SimulateTest(unittest.TestCase):
+    def test_scene_folder_and_schemas(self):
+        d = tmpdir("sim")
+        run("simulate", "--out", d, "--seed", "3", "--defect", "clearance", "--quiet", check=0)
+        for f in FILES:
+            self.assertTrue(os.path.getsize(os.path.join(d, f)) > 0, f)
+        self.assertTrue(any(f.endswith(".png") for f in os.listdir(d)))
+        truth = json.load(open(os.path.join(d, "truth.json")))
+        validate(truth, "truth.schema.json")
+        plan = json.load(open(os.path.join(d, "plan.json")))
+        validate(plan, "plan.schema.json")
+        self.assertEqual({x["kind"] for x in truth["defects"]}, {"clearance"})
+        cables = {e["name"] for e in plan["elements"] if e["kind"] == "cable"}
+        self.assertEqual({c["name"] for c in truth["cables"]}, cables)
+        # the scan is in the sensor frame: ewis info sees points about 600 mm in front of the sensor
+        info = json.loads(run("info", "--scan", os.path.join(d, "scan.ply"), check=0).stdout)
+        self.assertGreater(info["points"], 100000)
+        self.assertLess(info["resolution_mm"], 1.0)
+
+    def test_same_seed_same_bytes_any_threads(self):
+        a, b = tmpdir("sim-a"), tmpdir("sim-b")
+        run("simulate", "--out", a, "--seed", "5", "--threads", "1", "--quiet", check=0)
+        run("simulate", "--out", b, "--seed", "5", "--threads", "2", "--quiet", check=0)
+        for f in FILES:
+            self.assertTrue(filecmp.cmp(os.path.join(a, f), os.path.join(b, f), shallow=False), f)
+
+    def test_campaign_half_with_defects(self):
+        d = tmpdir("campaign")
+        run("simulate", "--out", d, "--seed", "1", "--campaign", "4", "--quiet", check=0)
+        scenes = sorted(x for x in os.listdir(d) if os.path.isdir(os.path.join(d, x)))
+        self.assertEqual(len(scenes), 4)
+        with_defects = sum(1 for s in scenes if json.load(open(os.path.join(d, s, "truth.json")))["defects"])
+        self.assertEqual(with_defects, 2)
+
+    def test_bad_option_exit_2(self):
+        d = tmpdir("sim-bad")
+        proc = run("simulate", "--out", d, "--defect", "nonsense")
+        self.assertEqual(proc.returncode, 2)
+
+
+if __name__ == "__main__":
+    unittest.main()
