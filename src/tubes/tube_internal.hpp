@@ -1,0 +1,80 @@
+#pragma once
+// Internals shared by the files of the tubes stage (not part of the public API).
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ewis/core/cloud.hpp"
+#include "ewis/search/kdtree.hpp"
+#include "ewis/tubes/cylinder_fit.hpp"
+#include "ewis/tubes/trace.hpp"
+
+namespace ewis::tubes_detail {
+
+// Everything one trace needs; built once per trace (no global state).
+struct Context {
+  const Cloud& cloud;
+  const KdTree& tree;
+  const TubeParams& params;
+  double resolution_mm = 1.0;
+  double tolerance_mm = 0.5;   // shell half-width around the surface
+  double step_mm = 5.0;        // sub-cable length
+  double half_window_mm = 4.0; // half-length of the fit window around each new joint
+  double expected_density = 0; // fitted inliers per mm of tube (from the initial fit)
+  std::vector<Eigen::Vector3d> coarse;  // search cone around +z (paper 4.2.2 direction set)
+  std::vector<Eigen::Vector3d> fine1, fine2;  // refinement cones (coarse-to-fine)
+  std::vector<Eigen::Vector3d> bridge;        // the narrow cone searched across a gap
+  std::vector<Neighbor> scratch;
+
+  Context(const Cloud& c, const KdTree& t, const TubeParams& p) : cloud(c), tree(t), params(p) {}
+  bool usable(std::uint32_t i) const { return !params.usable || (i < params.usable->size() && (*params.usable)[i]); }
+  CylinderFitParams fit_params(double radius_mm) const;
+};
+
+// Usable scan points within `radius` of `center`, relative to `origin` (double), with their indices.
+void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Eigen::Vector3d& origin,
+            std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>* ids = nullptr);
+
+// paper 4.2.2: the fullest candidate cylinder (axis through the origin of `rel`, radius r) among the
+// directions `dirs` rotated onto `around`; counts points in the shell |dist - r| <= tol with t in [t0, t1].
+// Coarse-to-fine: then the fine cones around the winner. Returns the best direction and its count.
+Eigen::Vector3d search_direction(const Context& ctx, const std::vector<Eigen::Vector3d>& rel,
+                                 const Eigen::Vector3d& around, const std::vector<Eigen::Vector3d>& dirs,
+                                 double r, double tol, double t0, double t1, int& best_count);
+
+struct AxisState {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // on the axis
+  Eigen::Vector3d dir = Eigen::Vector3d::UnitZ();
+  double radius_mm = 0;
+  double rms_mm = 0;
+  int inliers = 0;
+  double window_mm = 0;  // axial length of the window the fit used
+  double arc_deg = 0;    // angular extent of the fitted surface seen
+};
+
+// paper 4.2.1 / 4.2.2: a cylinder near surface point p0 (radius estimated when hint <= 0).
+bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, AxisState& out);
+
+struct StepResult {
+  bool ok = false;
+  bool partial = false;  // the data end inside this step (the sub-cable is shorter)
+  Eigen::Vector3d start = Eigen::Vector3d::Zero(), end = Eigen::Vector3d::Zero(), dir = Eigen::Vector3d::UnitZ();
+  double radius_mm = 0, rms_mm = 0, arc_deg = 0;
+  std::uint32_t points = 0;
+  std::string fail;
+};
+
+// paper 4.2.3-4.2.4: one sub-cable from axis point a along d. `bridging`: a is extrapolated across a gap,
+// the search is narrower and the data must be there from the start.
+// `arc_ref_deg`: the arc of the tube seen so far; a fit over much less is a strip of something else (the
+// plane a tube lies on), not this tube.
+// `scale` < 1: a shorter step (and window), tried where a full one fails (a bend, the tube's end on a plane).
+// `rms_ref_mm`: the fit residual seen so far (the sensor's noise on this tube).
+StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::Vector3d& d, double r_ref,
+                          double arc_ref_deg, double rms_ref_mm, bool bridging, double scale = 1.0);
+
+// Measures the local resolution (median nearest-neighbour distance) around p.
+double local_resolution(const KdTree& tree, const Eigen::Vector3d& p);
+
+}  // namespace ewis::tubes_detail

@@ -1,0 +1,295 @@
+// paper 4.2.2-4.2.4: the search structure moved along the tube, one sub-cable per step.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "ewis/tubes/directions.hpp"
+#include "tube_internal.hpp"
+
+namespace ewis::tubes_detail {
+
+CylinderFitParams Context::fit_params(double radius_mm) const {
+  CylinderFitParams fp;
+  fp.min_sigma_mm = std::max(0.02, 0.05 * resolution_mm);
+  fp.max_radius_mm = 3.0 * radius_mm;
+  fp.use_sensor = params.has_sensor;
+  fp.sensor = params.sensor_position;
+  return fp;
+}
+
+void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Eigen::Vector3d& origin,
+            std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>* ids) {
+  rel.clear();
+  if (ids) ids->clear();
+  ctx.tree.radius(center.cast<float>(), static_cast<float>(radius), ctx.scratch);
+  // sorted by index: the result (and every fit on it) does not depend on distance ties
+  std::sort(ctx.scratch.begin(), ctx.scratch.end(), [](const Neighbor& a, const Neighbor& b) { return a.index < b.index; });
+  for (const Neighbor& nb : ctx.scratch) {
+    if (!ctx.usable(nb.index)) continue;
+    rel.push_back(ctx.cloud.points[nb.index].cast<double>() - origin);
+    if (ids) ids->push_back(nb.index);
+  }
+}
+
+namespace {
+
+// The local points as float arrays (x, y, z, squared norm): the counting loop below is the hot spot.
+struct Local {
+  std::vector<float> x, y, z, n2;
+};
+
+Local make_local(const std::vector<Eigen::Vector3d>& rel, std::size_t stride) {
+  Local l;
+  const std::size_t n = (rel.size() + stride - 1) / stride;
+  l.x.reserve(n);
+  l.y.reserve(n);
+  l.z.reserve(n);
+  l.n2.reserve(n);
+  for (std::size_t i = 0; i < rel.size(); i += stride) {
+    l.x.push_back(static_cast<float>(rel[i].x()));
+    l.y.push_back(static_cast<float>(rel[i].y()));
+    l.z.push_back(static_cast<float>(rel[i].z()));
+    l.n2.push_back(static_cast<float>(rel[i].squaredNorm()));
+  }
+  return l;
+}
+
+// Shell count of one candidate axis u through the origin.
+int shell_count(const Local& l, const Eigen::Vector3d& u, float lo2, float hi2, float t0, float t1) {
+  const float ux = static_cast<float>(u.x()), uy = static_cast<float>(u.y()), uz = static_cast<float>(u.z());
+  int count = 0;
+  const std::size_t n = l.x.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const float t = l.x[i] * ux + l.y[i] * uy + l.z[i] * uz;
+    const float d2 = l.n2[i] - t * t;
+    count += (t >= t0) & (t <= t1) & (d2 >= lo2) & (d2 <= hi2);
+  }
+  return count;
+}
+
+Eigen::Vector3d best_in(const Local& l, const Eigen::Vector3d& around, const std::vector<Eigen::Vector3d>& dirs,
+                        float lo2, float hi2, float t0, float t1, int& best) {
+  const Eigen::Matrix3d rot = rotation_from_z(around);
+  Eigen::Vector3d best_u = around.normalized();
+  best = -1;
+  for (const Eigen::Vector3d& dz : dirs) {
+    const Eigen::Vector3d u = rot * dz;
+    const int c = shell_count(l, u, lo2, hi2, t0, t1);
+    if (c > best) {  // strict: ties keep the earlier candidate (the continuation comes first)
+      best = c;
+      best_u = u;
+    }
+  }
+  return best_u;
+}
+
+// paper 4.2.3 (height): where the surface ends along `axis` from `origin`: the farthest shell point with a
+// dense stretch of surface (>= need points within w) just behind it. Outliers, even flying-pixel clusters
+// near the silhouette, are never that dense, so they cannot stretch the tube.
+double dense_end(const std::vector<Eigen::Vector3d>& rel, const Eigen::Vector3d& origin, const Eigen::Vector3d& axis,
+                 double r, double tol, double t_max, double w, double need) {
+  const double lo = std::max(0.0, r - tol), hi = r + tol;
+  std::vector<double> ts;
+  for (const Eigen::Vector3d& q0 : rel) {
+    const Eigen::Vector3d q = q0 - origin;
+    const double t = q.dot(axis);
+    if (t < 0 || t > t_max) continue;
+    const double d2 = q.squaredNorm() - t * t;
+    if (d2 >= lo * lo && d2 <= hi * hi) ts.push_back(t);
+  }
+  std::sort(ts.begin(), ts.end());
+  std::size_t lo_i = ts.size();
+  for (std::size_t j = ts.size(); j-- > 0;) {
+    if (lo_i > j) lo_i = j;
+    while (lo_i > 0 && ts[lo_i - 1] >= ts[j] - w) --lo_i;
+    if (static_cast<double>(j - lo_i + 1) >= need) return ts[j];
+  }
+  return 0.0;
+}
+
+}  // namespace
+
+Eigen::Vector3d search_direction(const Context& ctx, const std::vector<Eigen::Vector3d>& rel,
+                                 const Eigen::Vector3d& around, const std::vector<Eigen::Vector3d>& dirs, double r,
+                                 double tol, double t0, double t1, int& best_count) {
+  const double lo = std::max(0.0, r - tol), hi = r + tol;
+  // bound the work on dense data: a deterministic stride keeps at most ~1000 points per count
+  const std::size_t stride = std::max<std::size_t>(1, rel.size() / 1000);
+  const Local l = make_local(rel, stride);
+  const float lo2 = static_cast<float>(lo * lo), hi2 = static_cast<float>(hi * hi);
+  const float f0 = static_cast<float>(t0), f1 = static_cast<float>(t1);
+  int c0 = 0, c1 = 0;
+  Eigen::Vector3d u = best_in(l, around, dirs, lo2, hi2, f0, f1, c0);
+  u = best_in(l, u, ctx.fine1, lo2, hi2, f0, f1, c1);
+  u = best_in(l, u, ctx.fine2, lo2, hi2, f0, f1, best_count);
+  best_count *= static_cast<int>(stride);
+  return u.normalized();
+}
+
+double local_resolution(const KdTree& tree, const Eigen::Vector3d& p) {
+  std::vector<Neighbor> nb, nb2;
+  tree.knn(p.cast<float>(), 48, nb);
+  std::vector<double> d;
+  for (const Neighbor& n : nb) {
+    tree.knn(tree.points()[n.index], 2, nb2);
+    if (nb2.size() == 2) d.push_back(std::sqrt(nb2[1].distance_sq));
+  }
+  if (d.empty()) return 1.0;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return std::max(d[d.size() / 2], 1e-3);
+}
+
+StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::Vector3d& d_in, double r_ref,
+                          double arc_ref_deg, double rms_ref_mm, bool bridging, double scale) {
+  StepResult st;
+  st.start = a;
+  const Eigen::Vector3d d = d_in.normalized();
+  const double L = ctx.step_mm * scale, tol = ctx.tolerance_mm;
+  const double h = std::max(ctx.half_window_mm * scale, 2.0 * ctx.resolution_mm);
+  const double reach = L + h;
+  std::vector<Eigen::Vector3d> rel;
+  // one k-d tree query per step (paper 4.2.2 "fast"); the counting below works on this local set
+  gather(ctx, a + d * (0.5 * reach), std::sqrt(0.25 * reach * reach + (r_ref + 2 * tol) * (r_ref + 2 * tol)) + reach * 0.5, a,
+         rel);
+  if (rel.size() < 6) {
+    st.fail = "no data";
+    return st;
+  }
+  // paper 4.2.2: the fullest candidate cylinder starting at a (within the search cone)
+  int score = 0;
+  const std::vector<Eigen::Vector3d>& cone = bridging ? ctx.bridge : ctx.coarse;
+  const Eigen::Vector3d u = search_direction(ctx, rel, d, cone, r_ref, tol, 0.0, reach, score);
+  const double expected_per_mm = std::max(ctx.expected_density, 1e-6);
+  if (score < std::max(6.0, 0.2 * expected_per_mm * L)) {
+    st.fail = "no data";
+    return st;
+  }
+  // paper 4.2.3 / Fig. 10: height from the histogram of the projections on the axis: stop where bins empty
+  const double bw = std::max(1.5 * ctx.resolution_mm, reach / 12.0);
+  const int nbins = std::max(1, static_cast<int>(std::ceil(reach / bw)));
+  std::vector<int> bins(nbins, 0);
+  const double in2 = (r_ref + tol) * (r_ref + tol);
+  for (const Eigen::Vector3d& q : rel) {
+    const double t = q.dot(u);
+    if (t < 0 || t >= reach) continue;
+    if (q.squaredNorm() - t * t <= in2) ++bins[std::min(nbins - 1, static_cast<int>(t / bw))];
+  }
+  std::vector<int> sorted(bins);
+  std::sort(sorted.begin(), sorted.end());
+  const int typical = std::max<int>(sorted[nbins / 2], static_cast<int>(expected_per_mm * bw * 0.5));
+  const int empty_below = std::max(2, static_cast<int>(0.2 * typical));
+  int run = 0;
+  while (run < nbins && bins[run] >= empty_below) ++run;
+  const double t_run = run * bw;
+  double t_c;
+  if (t_run >= std::min(reach, L + 0.5 * h)) {
+    t_c = L;
+  } else if (!bridging && t_run >= std::max(0.3 * L, 2.0 * ctx.resolution_mm)) {
+    // the data end inside the last bin: refined below along the fitted axis
+    const double w = std::max(2.0 * ctx.resolution_mm, 0.1 * L);
+    t_c = dense_end(rel, Eigen::Vector3d::Zero(), u, r_ref, tol, t_run, w, std::max(6.0, 0.3 * expected_per_mm * w));
+    if (t_c < std::max(0.3 * L, 2.0 * ctx.resolution_mm)) {
+      st.fail = "no data";
+      return st;
+    }
+    st.partial = true;
+  } else {
+    st.fail = "no data";
+    return st;
+  }
+  // the fit window: around the new joint (full step) or ending at the data's end (partial)
+  const double w0 = st.partial ? std::max(-h, t_c - 2 * h) : t_c - h;
+  const double w1 = st.partial ? t_c : t_c + h;
+  const double sel = r_ref + 3.5 * tol;  // wide enough to see the band outside the surface (below)
+  std::vector<Eigen::Vector3d> win;
+  for (const Eigen::Vector3d& q : rel) {
+    const double t = q.dot(u);
+    if (t < w0 || t > w1) continue;
+    const double dd = (q - u * t).norm();
+    if (dd <= sel && dd >= 0.3 * r_ref) win.push_back(q);
+  }
+  if (win.size() < 8) {
+    st.fail = "no data";
+    return st;
+  }
+  const CylinderFitResult fit = fit_cylinder(win, u * t_c, u, r_ref, ctx.fit_params(r_ref));
+  if (!fit.ok) {
+    st.fail = "no surface";
+    return st;
+  }
+  // continuity checks (4.2.4 robustness): never jump onto a neighbour, a plane or a crossing tube
+  const double cos_turn = std::cos(ctx.params.max_turn_deg * M_PI / 180.0);
+  if (fit.axis.dot(d) < cos_turn) {
+    st.fail = "direction jump";
+    return st;
+  }
+  if (std::abs(fit.radius_mm / r_ref - 1.0) > ctx.params.max_radius_change) {
+    st.fail = "radius jump";
+    return st;
+  }
+  const Eigen::Vector3d foot_a = fit.point + fit.axis * fit.axis.dot(-fit.point);  // a is the origin here
+  const double offset = foot_a.norm();
+  const double max_offset = std::max(0.35 * r_ref, 2.0 * ctx.resolution_mm);
+  if (offset > max_offset) {
+    st.fail = "axis jump";
+    return st;
+  }
+  const double win_len = w1 - std::max(w0, 0.0 - h);
+  if (fit.inliers < std::max(8.0, 0.25 * expected_per_mm * win_len) || fit.arc_deg < std::max(45.0, 0.6 * arc_ref_deg)) {
+    st.fail = "no surface";
+    return st;
+  }
+  // the same surface as before: residuals like the tube's so far (a strip of a plane, a bundle of outliers
+  // or another object's edge fit worse), and (paper 4.2.2: "an empty space around cables is assumed")
+  // few points just outside the surface, where a plane or a touching object would continue
+  if (fit.rms_mm > std::min(0.25 * fit.radius_mm, 1.8 * rms_ref_mm + 0.05 * ctx.resolution_mm) ||
+      (bridging && fit.inliers < 0.5 * expected_per_mm * win_len)) {
+    st.fail = "no surface";
+    return st;
+  }
+  {
+    const double b0 = fit.radius_mm + tol, b1 = fit.radius_mm + 3.0 * tol;
+    int band = 0;
+    for (const Eigen::Vector3d& q : win) {
+      const Eigen::Vector3d v = q - fit.point;
+      const double dd = (v - fit.axis * fit.axis.dot(v)).norm();
+      band += dd > b0 && dd <= b1;
+    }
+    if (band > 0.5 * fit.inliers) {
+      st.fail = "no surface";
+      return st;
+    }
+  }
+  st.ok = true;
+  st.end = a + fit.point;  // the foot of a + u t_c on the fitted axis
+  if (st.partial) {
+    // the end along the fitted axis (the searched direction can be tilted where the data thin out)
+    const double w = std::max(2.0 * ctx.resolution_mm, 0.1 * L);
+    const double te = dense_end(rel, foot_a, fit.axis, fit.radius_mm, tol, t_run + 2.0 * bw, w,
+                                std::max(6.0, 0.3 * expected_per_mm * w));
+    if (te < 0.1 * L) {
+      st.ok = false;
+      st.fail = "no data";
+      return st;
+    }
+    st.end = a + foot_a + fit.axis * te;
+  }
+  st.dir = fit.axis;
+  st.radius_mm = fit.radius_mm;
+  st.rms_mm = fit.rms_mm;
+  st.arc_deg = fit.arc_deg;
+  // the sub-cable's own points: inside its cylinder between a and the new joint
+  const double out2 = (fit.radius_mm + tol) * (fit.radius_mm + tol);
+  const Eigen::Vector3d seg = fit.point;
+  const double len2 = seg.squaredNorm();
+  std::uint32_t n = 0;
+  for (const Eigen::Vector3d& q : rel) {
+    const double t = len2 > 0 ? q.dot(seg) / len2 : 0.0;
+    if (t < 0 || t > 1) continue;
+    n += (q - seg * t).squaredNorm() <= out2;
+  }
+  st.points = n;
+  return st;
+}
+
+}  // namespace ewis::tubes_detail

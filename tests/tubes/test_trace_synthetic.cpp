@@ -1,0 +1,316 @@
+// trace_tube on simulated scans with known truth (DESIGN.md hard cases; issue 5 accuracy goals).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <iterator>
+#include <cstdlib>
+
+#include "ewis/search/kdtree.hpp"
+#include "ewis/tubes/trace.hpp"
+#include "tubes/synthetic_scan.hpp"
+
+namespace {
+
+using Eigen::Vector3d;
+
+struct Metrics {
+  double rms = 0, max = 0;  // centreline distance to the truth
+  double coverage = 0;      // of the true centreline, within 1 mm of the chain
+  double diameter_err_pct = 0;
+};
+
+Metrics measure(const ewis::TubeTrace& t, const std::vector<Vector3d>& truth, double r_true) {
+  Metrics m;
+  double ss = 0;
+  int n = 0;
+  for (const Vector3d& p : t.centerline) {
+    const double d = synth::distance_to_polyline(truth, p);
+    ss += d * d;
+    m.max = std::max(m.max, d);
+    ++n;
+  }
+  m.rms = n ? std::sqrt(ss / n) : 1e9;
+  m.coverage = ewis::chain_coverage(t, truth, 1.0);
+  m.diameter_err_pct = 100.0 * (t.radius_mm / r_true - 1.0);
+  return m;
+}
+
+void print(const char* name, const ewis::TubeTrace& t, const Metrics& m, const std::vector<Vector3d>* truth = nullptr) {
+  if (truth && std::getenv("TUBES_DEBUG"))
+    for (const auto& sg : t.segments) {
+      double a0 = 0, a1 = 0;
+      const double e0 = synth::distance_to_polyline(*truth, sg.cylinder.start, &a0);
+      const double e1 = synth::distance_to_polyline(*truth, sg.cylinder.end, &a1);
+      std::printf("  seg %.1f->%.1f err %.3f %.3f r %.3f pts %u rms %.3f br %d\n", a0, a1, e0, e1, sg.cylinder.radius_mm,
+                  sg.points, sg.rms_mm, sg.bridged);
+    }
+  std::printf("[%s] found %d r %.3f rms %.3f max %.3f cov %.3f derr %.2f%% len %.1f segs %zu gaps %zu pts %zu ends %s/%s\n",
+              name, t.found, t.radius_mm, m.rms, m.max, m.coverage, m.diameter_err_pct, t.length_mm,
+              t.segments.size(), t.gaps.size(), t.points.size(), t.end_reason_front.c_str(), t.end_reason_back.c_str());
+}
+
+class StraightTube : public ::testing::TestWithParam<double> {};
+
+TEST_P(StraightTube, DiameterAndCentrelineWithinGoals) {
+  const double d = GetParam(), r = d / 2;
+  const Vector3d dir = Vector3d(1, 0.3, 0.2).normalized();
+  const Vector3d mid(5, -10, 600);
+  const auto truth = synth::line(mid - dir * 75, mid + dir * 75);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  ewis::TubeParams params;
+  const Vector3d seed = mid - mid.normalized() * r;
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, seed, params);
+  const Metrics m = measure(t, truth, r);
+  print("straight", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_GE(m.coverage, 0.95);
+}
+
+INSTANTIATE_TEST_SUITE_P(Diameters, StraightTube, ::testing::Values(5.0, 10.0, 30.0));
+
+// Seed on the visible surface of the tube at centreline point c.
+Vector3d surface_seed(const Vector3d& c, double r) { return c - c.normalized() * r; }
+
+// Fraction of the trace's points that are closer to `other`'s surface than to `own`'s (wrong object).
+double wrong_fraction(const ewis::TubeTrace& t, const synth::Scan& scan, int own) {
+  int wrong = 0, total = 0;
+  for (std::uint32_t i : t.points) {
+    ++total;
+    wrong += scan.label[i] >= 0 && scan.label[i] != own;
+  }
+  return total ? static_cast<double>(wrong) / total : 0.0;
+}
+
+TEST(TraceTube, BentTubeTracedEndToEnd) {
+  // a 10 mm tube: straight leg, 150 deg torus arc of bend radius 50 mm, straight leg; bend plane tilted
+  const double r = 5.0, R = 50.0;
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.5, Vector3d(1, 0.2, 0).normalized()).toRotationMatrix();
+  const Vector3d o(0, 0, 600);
+  const double arc = 150.0 * M_PI / 180.0;
+  std::vector<Vector3d> truth;
+  for (const Vector3d& p : synth::line(Vector3d(-40, -R, 0), Vector3d(0, -R, 0))) truth.push_back(o + rot * p);
+  for (const Vector3d& p : synth::curve([&](double a) { return Vector3d(R * std::sin(a), -R * std::cos(a), 0); }, 0, arc, 400))
+    truth.push_back(o + rot * p);
+  const Vector3d e(R * std::sin(arc), -R * std::cos(arc), 0), te(std::cos(arc), std::sin(arc), 0);
+  for (const Vector3d& p : synth::line(e, e + te * 40)) truth.push_back(o + rot * p);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(truth[30], r), {});
+  const Metrics m = measure(t, truth, r);
+  print("bent", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+  EXPECT_NEAR(t.length_mm, synth::distance_to_polyline(truth, truth.back()) + ewis::polyline_length(truth), 4.0);
+}
+
+TEST(TraceTube, ParallelTubesTwoMillimetresApartNeverJump) {
+  // same diameter, 2 mm apart; tube A shorter, so its ends face B's continuation
+  const double r = 5.0;
+  const Vector3d dir = Vector3d(1, 0.1, 0.15).normalized();
+  const Vector3d side = dir.cross(Vector3d(0, 0, 1)).normalized();
+  const Vector3d mid(0, 0, 600);
+  const auto a = synth::line(mid - dir * 50, mid + dir * 50);
+  const auto b = synth::line(mid + side * (2 * r + 2) - dir * 100, mid + side * (2 * r + 2) + dir * 100);
+  synth::Scene scene;
+  scene.add_tube(a, r, 0);
+  scene.add_tube(b, r, 1);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(mid, r), {});
+  const Metrics m = measure(t, a, r);
+  print("parallel", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_LE(m.max, 1.5);  // never on B (B's axis is 12 mm away)
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+  EXPECT_LE(wrong_fraction(t, scan, 0), 0.005);
+  // and B traced from its own seed stays on B
+  const Vector3d mb = mid + side * (2 * r + 2) + dir * 70;
+  const ewis::TubeTrace tb = ewis::trace_tube(scan.cloud, tree, surface_seed(mb, r), {});
+  const Metrics mbm = measure(tb, b, r);
+  print("parallel-B", tb, mbm);
+  EXPECT_LE(mbm.max, 1.5);
+  EXPECT_GE(mbm.coverage, 0.95);
+  EXPECT_LE(wrong_fraction(tb, scan, 1), 0.005);
+}
+
+TEST(TraceTube, CrossingTubeLowerTracedThroughTheHole) {
+  const double r = 5.0;
+  const Vector3d o(0, 0, 620);
+  const auto lower = synth::line(o + Vector3d(-80, 0, 0), o + Vector3d(80, 0, 0));
+  // the upper tube lies on the lower one (touching), nearer the sensor, across it
+  const auto upper = synth::line(o + Vector3d(0, -80, -2 * r), o + Vector3d(0, 80, -2 * r));
+  synth::Scene scene;
+  scene.add_tube(lower, r, 0);
+  scene.add_tube(upper, r, 1);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(o + Vector3d(-50, 0, 0), r), {});
+  const Metrics m = measure(t, lower, r);
+  print("crossing-lower", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(m.max, 1.5);
+  ASSERT_EQ(t.gaps.size(), 1u);
+  EXPECT_LT(std::abs(t.gaps[0].start.x() - o.x()), 12.0);
+  EXPECT_LT(std::abs(t.gaps[0].end.x() - o.x()), 12.0);
+  EXPECT_LE(wrong_fraction(t, scan, 0), 0.005);
+  const ewis::TubeTrace tu = ewis::trace_tube(scan.cloud, tree, surface_seed(o + Vector3d(0, 40, -2 * r), r), {});
+  const Metrics mu = measure(tu, upper, r);
+  print("crossing-upper", tu, mu);
+  EXPECT_GE(mu.coverage, 0.95);
+  EXPECT_LE(mu.max, 1.5);
+  EXPECT_TRUE(tu.gaps.empty());
+}
+
+TEST(TraceTube, TubeLyingOnAPlaneIsNotPulledIn) {
+  const double r = 5.0;
+  const Vector3d n = Vector3d(0, -0.35, -1).normalized();  // plane normal, towards the sensor
+  const Vector3d dir = Vector3d(1, 0, 0).cross(n).cross(n).normalized() * -1.0;
+  const Vector3d c(0, 0, 600);
+  const auto truth = synth::line(c - dir * 70, c + dir * 70);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const Vector3d side = n.cross(dir).normalized();
+  scene.add_rect(c - n * r - dir * 100 - side * 40, dir * 200, side * 80, 1);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(c, r), {});
+  const Metrics m = measure(t, truth, r);
+  print("on-plane", t, m, &truth);
+  ASSERT_TRUE(t.found);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_LE(m.max, 2.5);          // an end may overshoot a little along the plane's strip under the axis
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(t.length_mm, 145.0);  // but it is not continued along the plane
+  EXPECT_LE(wrong_fraction(t, scan, 0), 0.02);
+}
+
+TEST(TraceTube, HelixNonPlanarBend) {
+  const double r = 4.0, R = 30.0, pitch = 50.0;
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.5, Vector3d::UnitX()).toRotationMatrix();
+  const Vector3d o(0, 0, 620);
+  const auto truth = synth::curve(
+      [&](double a) { return Vector3d(o + rot * Vector3d(R * std::cos(a), R * std::sin(a), pitch * a / (2 * M_PI))); },
+      0.0, 1.7 * M_PI, 600);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(truth[150], r), {});
+  const Metrics m = measure(t, truth, r);
+  print("helix", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+}
+
+TEST(TraceTube, TubeEndingAtABoxStopsThere) {
+  const double r = 5.0;
+  const Vector3d o(0, 0, 600);
+  const auto truth = synth::line(o + Vector3d(-100, 0, 0), o + Vector3d(0, 0, 0));
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const Vector3d lo = o + Vector3d(0, -20, -20), hi = o + Vector3d(40, 20, 20);
+  scene.add_box(lo, hi, 1);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  ewis::TubeParams p;
+  p.stop_at = [&](const Vector3d& q) {
+    return (q.array() >= lo.array() - 1.0).all() && (q.array() <= hi.array() + 1.0).all();
+  };
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(o + Vector3d(-50, 0, 0), r), p);
+  const Metrics m = measure(t, truth, r);
+  print("box-stop", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  const bool stop_front = t.end_reason_front == "stop region", stop_back = t.end_reason_back == "stop region";
+  EXPECT_TRUE(stop_front || stop_back);
+  for (const auto& s : t.segments) EXPECT_LE(s.cylinder.end.x(), o.x() + 0.5);
+  EXPECT_LE(wrong_fraction(t, scan, 0), 0.01);
+  // without the stop region the box face still ends the trace (the data change, not jump onto the box)
+  const ewis::TubeTrace t2 = ewis::trace_tube(scan.cloud, tree, surface_seed(o + Vector3d(-50, 0, 0), r), {});
+  print("box-free", t2, measure(t2, truth, r));
+  for (const auto& s : t2.segments) EXPECT_LE(s.cylinder.end.x(), o.x() + r);
+  EXPECT_LE(wrong_fraction(t2, scan, 0), 0.02);
+}
+
+TEST(TraceTube, TwoSeedsGiveTheSameTubeAndRunsAreDeterministic) {
+  const double r = 5.0;
+  const Vector3d dir = Vector3d(1, -0.2, 0.1).normalized();
+  const Vector3d mid(0, 10, 610);
+  const auto truth = synth::line(mid - dir * 80, mid + dir * 80);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t1 = ewis::trace_tube(scan.cloud, tree, surface_seed(mid - dir * 40, r), {});
+  const ewis::TubeTrace t2 = ewis::trace_tube(scan.cloud, tree, surface_seed(mid + dir * 50, r), {});
+  ASSERT_TRUE(t1.found && t2.found);
+  std::vector<std::uint32_t> common;
+  std::set_intersection(t1.points.begin(), t1.points.end(), t2.points.begin(), t2.points.end(), std::back_inserter(common));
+  const double jaccard = static_cast<double>(common.size()) / (t1.points.size() + t2.points.size() - common.size());
+  std::printf("[two-seeds] jaccard %.4f len %.2f %.2f r %.3f %.3f\n", jaccard, t1.length_mm, t2.length_mm, t1.radius_mm, t2.radius_mm);
+  EXPECT_GE(jaccard, 0.97);
+  EXPECT_NEAR(t1.length_mm, t2.length_mm, 2.0);
+  EXPECT_NEAR(t1.radius_mm, t2.radius_mm, 0.05);
+  const ewis::TubeTrace t3 = ewis::trace_tube(scan.cloud, tree, surface_seed(mid - dir * 40, r), {});
+  EXPECT_EQ(t1.points, t3.points);
+  ASSERT_EQ(t1.centerline.size(), t3.centerline.size());
+  for (std::size_t i = 0; i < t1.centerline.size(); ++i) EXPECT_EQ(t1.centerline[i], t3.centerline[i]);
+}
+
+TEST(TraceTube, NoTubeAtTheSeed) {
+  synth::Scene scene;
+  const Vector3d c(0, 0, 600);
+  scene.add_rect(c + Vector3d(-50, -50, 0), Vector3d(100, 0, 0), Vector3d(0, 100, 10), 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, c, {});
+  print("no-tube", t, measure(t, {c, c + Vector3d(1, 0, 0)}, 1.0));
+  EXPECT_FALSE(t.found);
+  ewis::Cloud empty;
+  const ewis::KdTree et(empty.points);
+  EXPECT_FALSE(ewis::trace_tube(empty, et, c, {}).found);
+}
+
+TEST(TraceCable, StartsFromTheRegisteredCadPoints) {
+  // paper 4.2.1: CAD cable sample points, 2 mm off the scanned cable (registration error), start the trace
+  const double r = 5.0;
+  const Vector3d dir = Vector3d(1, 0.2, -0.1).normalized();
+  const Vector3d mid(0, 0, 600);
+  const auto truth = synth::line(mid - dir * 70, mid + dir * 70);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  std::vector<Vector3d> cad;
+  const Vector3d off(0, 1.5, 1.0);
+  for (std::size_t i = 0; i < truth.size(); i += 4)
+    for (int k = 0; k < 8; ++k) {
+      const Vector3d e1 = dir.cross(Vector3d::UnitZ()).normalized(), e2 = dir.cross(e1);
+      cad.push_back(truth[i] + off + r * (std::cos(k * M_PI / 4) * e1 + std::sin(k * M_PI / 4) * e2));
+    }
+  const ewis::TubeTrace t = ewis::trace_cable(scan.cloud, tree, cad, r, {});
+  const Metrics m = measure(t, truth, r);
+  print("cable", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+  EXPECT_GE(ewis::chain_coverage(t, truth, 1.0), 0.95);
+}
+
+}  // namespace
