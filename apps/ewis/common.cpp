@@ -53,4 +53,17 @@ void ensure_directory(const std::string& dir) {
   if (ec) throw InputError(dir, "cannot create directory: " + ec.message());
 }
 
+void check_scan_units(const std::vector<Eigen::Vector3f>& points, const std::string& path, const std::string& units) {
+  if (units != "mm" || points.size() < 100) return;
+  Eigen::Vector3f lo = points.front(), hi = points.front();
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double diagonal = (hi - lo).norm();
+  if (diagonal < 10.0)
+    throw InputError(path, "the scan spans only " + std::to_string(diagonal) +
+                               " mm: it looks like metres or inches, pass --scan-units m (or in)");
+}
+
 }  // namespace ewis::cli

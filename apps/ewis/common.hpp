@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <Eigen/Core>
 #include <functional>
 #include <memory>
 #include <string>
@@ -36,6 +37,11 @@ nlohmann::json to_json_vec3(double x, double y, double z);
 
 // Creates directory `dir` (and parents); throws InputError when it exists as a file or cannot be made.
 void ensure_directory(const std::string& dir);
+
+// A scan read with --scan-units mm whose extent is tiny is almost surely in metres (PCL/ROS clouds): refuse it with a
+// clear message instead of failing later. Throws InputError(path, ...) when the bounding-box diagonal of a cloud
+// of at least 100 points is under 10 mm while `units` is "mm".
+void check_scan_units(const std::vector<Eigen::Vector3f>& points, const std::string& path, const std::string& units);
 
 // Each subcommand file defines one of these.
 Command add_info(CLI::App& root, CommonOptions& common);

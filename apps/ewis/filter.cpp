@@ -1,4 +1,5 @@
 // ewis filter: radius outlier removal (paper 4.1.1), CONTRACT.md "ewis filter".
+#include <cmath>
 #include <iostream>
 
 #include "common.hpp"
@@ -28,7 +29,10 @@ Command add_filter(CLI::App& root, CommonOptions& common) {
   cmd.app->add_option("--scan-units", opt->units, "Units of the scan: mm, m or in")->check(CLI::IsMember({"mm", "m", "in"}));
   add_common_options(cmd.app, common);
   cmd.run = [opt, &common]() -> int {
+    if (!std::isfinite(opt->radius_mm)) throw InputError("", "--radius-mm must be a finite positive number");
     const CloudFile file = read_cloud(opt->scan, parse_length_unit(opt->units));
+    if (file.cloud.empty()) throw InputError(opt->scan, "no finite points (" + std::to_string(file.dropped_nonfinite) +
+                                                            " non-finite dropped)");
     log(common, opt->scan + ": " + std::to_string(file.cloud.size()) + " points");
     const KdTree tree(file.cloud.points);
     RadiusOutlierParams params;

@@ -105,6 +105,7 @@ Command add_tubes(CLI::App& root, CommonOptions& common) {
     }
     const CloudFile file = read_cloud(opt->scan, parse_length_unit(opt->units));
     if (file.cloud.empty()) throw InputError(opt->scan, "no points");
+    check_scan_units(file.cloud.points, opt->scan, opt->units);
     ensure_directory(opt->out);
     log(common, opt->scan + ": " + std::to_string(file.cloud.size()) + " points");
     // paper 4.1.1: radius outlier removal first, parameters derived from the measured resolution

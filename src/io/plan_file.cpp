@@ -114,7 +114,7 @@ InspectionPlan parse_plan(const std::string& json_text, const std::string& path)
   json doc;
   try {
     doc = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse errors, and number overflow (out_of_range 406)
     // nlohmann's message says where ("at line 3, column 7") and what.
     std::string what = e.what();
     const auto p = what.find("parse error");

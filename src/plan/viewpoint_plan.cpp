@@ -30,6 +30,10 @@ std::vector<std::uint32_t> resolve_elements(const Scene& scene, const Inspection
     if (std::find(out.begin(), out.end(), e) == out.end()) out.push_back(e);
   };
   if (names.empty()) throw InputError("", "no --element given");
+  // The plan must describe this CAD: an element it names that the CAD lacks is a contradiction (as in inspect).
+  for (const PlanElement& pe : plan.elements)
+    if (scene.find(pe.name) < 0)
+      throw InputError(plan_path, "element '" + pe.name + "' of the plan is not an object of the CAD " + cad_path);
   for (const std::string& name : names) {
     if (name == "all-cables") {
       std::size_t cables = 0;

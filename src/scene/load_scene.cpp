@@ -1,4 +1,5 @@
 // CAD import through Assimp 5.2: one element per node/object name, node transforms applied.
+#include <cctype>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
@@ -134,12 +135,20 @@ Scene load_scene(const std::string& path, std::size_t* dropped_degenerate) {
 
   // PLY is read here, not by Assimp 5.2, whose PLY importer hangs on a truncated header and crashes on a
   // truncated binary body. One element per file, named after the file stem.
-  std::string head(3, '\0');
+  // Assimp recognises PLY by a case-insensitive "ply" token near the start, so every spelling (and every
+  // .ply name) comes here, after leading white space (found by fuzzing: "Ply"/"pLy" crashed or hung Assimp).
+  std::string head(64, '\0');
   {
     std::ifstream f(p, std::ios::binary);
-    f.read(head.data(), 3);
+    f.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(f.gcount()));
   }
-  if (head == "ply" || head == "PLY") return load_ply(path, dropped_degenerate);
+  const std::size_t first = head.find_first_not_of(" \t\r\n\f\v");
+  std::string magic = first == std::string::npos ? std::string() : head.substr(first, 3);
+  for (auto& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::string ext = p.extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (magic == "ply" || ext == ".ply") return load_ply(path, dropped_degenerate);
 
   // No DefaultLogger is created, so Assimp logs to its NullLogger (silent).
   Assimp::Importer importer;

@@ -203,7 +203,12 @@ PlyMesh read_ply_mesh(const std::string& path, const std::string& bytes) {
         if (format != Format::ascii && n * type_size(p.type) > in.remaining())
           throw InputError(path, "PLY data ends early (truncated file)");
         poly.clear();
-        for (std::size_t i = 0; i < n; ++i) poly.push_back(static_cast<long long>(in.read(p.type)));
+        for (std::size_t i = 0; i < n; ++i) {
+          const double index = in.read(p.type);
+          // checked before the cast: a float list entry may be NaN or huge (UB to convert), found by fuzzing
+          if (!(index >= -1.0 && index <= 9.0e15)) throw InputError(path, "PLY list entry is not a valid index");
+          poly.push_back(static_cast<long long>(index));
+        }
         if (int(k) != iface) continue;
         for (std::size_t i = 0; i < n; ++i)
           if (poly[i] < 0 || poly[i] >= static_cast<long long>(mesh.vertices.size()))
