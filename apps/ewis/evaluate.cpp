@@ -1,15 +1,55 @@
-// ewis evaluate: see CONTRACT.md. (Placeholder until its stage lands: the command exists but reports that it
-// is not available yet, exit 3.)
+// ewis evaluate: the paper's campaign experiment (CONTRACT.md "ewis evaluate"): inspects every scene of a
+// simulated campaign in-process, compares each report with truth.json, writes DIR2/<scene>/ outputs,
+// DIR2/evaluation.json and DIR2/evaluation.md. Progress (one line per scene) on stderr.
+#include <cstdio>
+#include <iostream>
+
 #include "common.hpp"
-#include "ewis/core/error.hpp"
+#include "ewis/report/evaluation.hpp"
 
 namespace ewis::cli {
 
 Command add_evaluate(CLI::App& root, CommonOptions& common) {
+  struct Options {
+    std::string campaign, out;
+    bool no_html = false;
+  };
+  auto opt = std::make_shared<Options>();
   Command cmd;
-  cmd.app = root.add_subcommand("evaluate", "(not available yet)");
+  cmd.app = root.add_subcommand("evaluate",
+                                "Inspect every scene of a simulated campaign and compare with its truth.json "
+                                "(detection rates, false alarms, bend-radius and gap errors, time per scene)");
+  cmd.app->add_option("--campaign", opt->campaign, "Campaign folder written by `ewis simulate --campaign N`")->required();
+  cmd.app->add_option("--out", opt->out, "Output folder: <scene>/ reports, evaluation.json, evaluation.md")->required();
+  cmd.app->add_flag("--no-html", opt->no_html, "Skip report.html of each scene (faster)");
   add_common_options(cmd.app, common);
-  cmd.run = [] () -> int { throw ProcessingError("'evaluate' is not available in this build yet"); };
+  cmd.run = [opt, &common]() -> int {
+    EvaluateParams params;
+    params.run.write_html = !opt->no_html;
+    params.progress = make_progress(common);  // steps inside each inspection (scenes take seconds to minutes)
+    params.on_scene = [&common](std::size_t i, std::size_t n, const SceneEvaluation& e) {
+      if (common.quiet) return;
+      char line[512];
+      if (e.ran) {
+        std::size_t found = 0;
+        for (const DefectCheck& d : e.defects) found += d.found;
+        std::snprintf(line, sizeof line, "scene %zu/%zu %s: %s, expected %s (%s), defects found %zu/%zu, %.2f s", i + 1,
+                      n, e.scene.c_str(), e.verdict.c_str(), e.truth_has_defects ? "fail" : "pass",
+                      verdict_outcome_name(e.outcome), found, e.defects.size(), e.seconds);
+      } else {
+        std::snprintf(line, sizeof line, "scene %zu/%zu %s: FAILED RUN: %s", i + 1, n, e.scene.c_str(), e.error.c_str());
+      }
+      log(common, line);
+    };
+    const CampaignEvaluation ev = evaluate_campaign(opt->campaign, opt->out, params);
+    const EvaluationSummary& s = ev.summary;
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "evaluated %zu scenes: %zu correct, %zu false alarms, %zu missed, %zu failed runs; see %s/evaluation.md",
+                  s.scenes, s.correct, s.false_alarms, s.missed, s.failed_runs, opt->out.c_str());
+    log(common, line);
+    return 0;
+  };
   return cmd;
 }
 

@@ -1,0 +1,200 @@
+// Raster helpers of the report's pictures: depth-tested splats, eye-dome shading, clipped lines and rings.
+#include "draw.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ewis::report_detail {
+
+SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const std::vector<std::uint8_t>& keep,
+                         const Camera& camera, const Pose& camera_to_cad, int radius_px) {
+  SplatBuffer buf;
+  buf.width_px = camera.width_px;
+  buf.height_px = camera.height_px;
+  const std::size_t n_px = std::size_t(std::max(0, buf.width_px)) * std::size_t(std::max(0, buf.height_px));
+  buf.depth_mm.assign(n_px, std::numeric_limits<float>::infinity());
+  buf.point.assign(n_px, -1);
+  if (n_px == 0) return buf;
+  const Eigen::Matrix3d rot = camera_to_cad.linear().transpose();
+  const Eigen::Vector3d tr = -(rot * camera_to_cad.translation());
+  const int r = std::clamp(radius_px, 0, 16);
+  const int r2 = r * r + r;  // rounder small discs
+  for (std::size_t i = 0; i < points_cad.size(); ++i) {
+    if (!keep.empty() && !keep[i]) continue;
+    const Eigen::Vector3d pc = rot * points_cad[i].cast<double>() + tr;
+    double u, v;
+    if (pc.z() <= 1e-3 || !camera.project(pc, u, v)) continue;
+    const int cx = static_cast<int>(std::floor(u)), cy = static_cast<int>(std::floor(v));
+    if (cx < -r || cy < -r || cx >= buf.width_px + r || cy >= buf.height_px + r) continue;
+    const float z = static_cast<float>(pc.z());
+    for (int dy = -r; dy <= r; ++dy) {
+      const int y = cy + dy;
+      if (y < 0 || y >= buf.height_px) continue;
+      for (int dx = -r; dx <= r; ++dx) {
+        const int x = cx + dx;
+        if (x < 0 || x >= buf.width_px || dx * dx + dy * dy > r2) continue;
+        const std::size_t k = std::size_t(y) * buf.width_px + x;
+        // Ties go to the lower index so the picture does not depend on anything but the data.
+        if (z < buf.depth_mm[k]) {
+          buf.depth_mm[k] = z;
+          buf.point[k] = static_cast<std::int32_t>(i);
+        }
+      }
+    }
+  }
+  return buf;
+}
+
+bool depth_range(const SplatBuffer& buf, double& near_mm, double& far_mm) {
+  std::vector<float> d;
+  d.reserve(buf.depth_mm.size() / 4);
+  for (float z : buf.depth_mm)
+    if (std::isfinite(z)) d.push_back(z);
+  if (d.empty()) return false;
+  const std::size_t lo = d.size() / 50, hi = d.size() - 1 - d.size() / 50;
+  std::nth_element(d.begin(), d.begin() + lo, d.end());
+  near_mm = d[lo];
+  std::nth_element(d.begin(), d.begin() + hi, d.end());
+  far_mm = d[hi];
+  if (far_mm <= near_mm) far_mm = near_mm + 1.0;
+  return true;
+}
+
+std::vector<float> eye_dome_factor(const SplatBuffer& buf, double strength) {
+  // Eye-dome lighting (Boucheny 2009): each pixel compares its log-depth with neighbours two pixels away;
+  // being behind them (a depth edge) darkens it. Only covered neighbours count, so sparse splats stay light.
+  const int w = buf.width_px, h = buf.height_px;
+  std::vector<float> f(buf.depth_mm.size(), 1.0f);
+  static const int off[8][2] = {{2, 0}, {-2, 0}, {0, 2}, {0, -2}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float z = buf.depth_mm[std::size_t(y) * w + x];
+      if (!std::isfinite(z)) continue;
+      const double lz = std::log2(double(z));
+      double sum = 0.0;
+      for (const auto& o : off) {
+        const int xx = x + o[0], yy = y + o[1];
+        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+        const float zn = buf.depth_mm[std::size_t(yy) * w + xx];
+        if (!std::isfinite(zn)) continue;
+        sum += std::max(0.0, lz - std::log2(double(zn)));
+      }
+      f[std::size_t(y) * w + x] = static_cast<float>(std::exp(-strength * sum / 8.0));
+    }
+  return f;
+}
+
+void put_pixel(Image& img, int x, int y, const Rgb& c) {
+  if (x < 0 || y < 0 || x >= img.width_px || y >= img.height_px) return;
+  std::uint8_t* p = img.at(x, y);
+  p[0] = c[0], p[1] = c[1], p[2] = c[2];
+}
+
+void blend_pixel(Image& img, int x, int y, const Rgb& c, double alpha) {
+  if (x < 0 || y < 0 || x >= img.width_px || y >= img.height_px) return;
+  std::uint8_t* p = img.at(x, y);
+  for (int k = 0; k < 3; ++k) p[k] = static_cast<std::uint8_t>(std::lround(p[k] * (1.0 - alpha) + c[k] * alpha));
+}
+
+void fill_disc(Image& img, const Eigen::Vector2d& centre, double radius_px, const Rgb& c) {
+  const int x0 = int(std::floor(centre.x() - radius_px)), x1 = int(std::ceil(centre.x() + radius_px));
+  const int y0 = int(std::floor(centre.y() - radius_px)), y1 = int(std::ceil(centre.y() + radius_px));
+  const double r2 = radius_px * radius_px;
+  for (int y = std::max(0, y0); y <= std::min(img.height_px - 1, y1); ++y)
+    for (int x = std::max(0, x0); x <= std::min(img.width_px - 1, x1); ++x) {
+      const double dx = x + 0.5 - centre.x(), dy = y + 0.5 - centre.y();
+      if (dx * dx + dy * dy <= r2) put_pixel(img, x, y, c);
+    }
+}
+
+namespace {
+// Liang-Barsky clipping of segment a-b to [lo, hi]^2; false when nothing is left.
+bool clip(Eigen::Vector2d& a, Eigen::Vector2d& b, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  double t0 = 0.0, t1 = 1.0;
+  const Eigen::Vector2d d = b - a;
+  for (int k = 0; k < 2; ++k) {
+    const double p[2] = {-d[k], d[k]};
+    const double q[2] = {a[k] - lo[k], hi[k] - a[k]};
+    for (int s = 0; s < 2; ++s) {
+      if (p[s] == 0.0) {
+        if (q[s] < 0) return false;
+        continue;
+      }
+      const double t = q[s] / p[s];
+      if (p[s] < 0) t0 = std::max(t0, t);
+      else t1 = std::min(t1, t);
+    }
+  }
+  if (t0 > t1) return false;
+  const Eigen::Vector2d a0 = a;
+  a = a0 + t0 * d;
+  b = a0 + t1 * d;
+  return true;
+}
+}  // namespace
+
+void draw_line(Image& img, const Eigen::Vector2d& a_in, const Eigen::Vector2d& b_in, const Rgb& c,
+               double thickness_px) {
+  Eigen::Vector2d a = a_in, b = b_in;
+  if (!a.allFinite() || !b.allFinite()) return;
+  const double m = thickness_px + 2.0;
+  if (!clip(a, b, Eigen::Vector2d(-m, -m), Eigen::Vector2d(img.width_px + m, img.height_px + m))) return;
+  const double len = (b - a).norm();
+  const int steps = std::max(1, static_cast<int>(std::ceil(len / 0.5)));  // bounded: clipped to the image
+  const double r = std::max(0.5, thickness_px / 2.0);
+  for (int s = 0; s <= steps; ++s) fill_disc(img, a + (b - a) * (double(s) / steps), r, c);
+}
+
+void draw_ring(Image& img, const Eigen::Vector2d& centre, double radius_px, const Rgb& c, double thickness_px) {
+  if (!centre.allFinite()) return;
+  const double ro = radius_px + thickness_px / 2.0, ri = std::max(0.0, radius_px - thickness_px / 2.0);
+  const int x0 = int(std::floor(centre.x() - ro)), x1 = int(std::ceil(centre.x() + ro));
+  const int y0 = int(std::floor(centre.y() - ro)), y1 = int(std::ceil(centre.y() + ro));
+  for (int y = std::max(0, y0); y <= std::min(img.height_px - 1, y1); ++y)
+    for (int x = std::max(0, x0); x <= std::min(img.width_px - 1, x1); ++x) {
+      const double dx = x + 0.5 - centre.x(), dy = y + 0.5 - centre.y();
+      const double d2 = dx * dx + dy * dy;
+      if (d2 <= ro * ro && d2 >= ri * ri) put_pixel(img, x, y, c);
+    }
+}
+
+bool project_cad(const Camera& camera, const Pose& cad_to_camera, const Eigen::Vector3d& p_cad, Eigen::Vector2d& uv) {
+  const Eigen::Vector3d pc = cad_to_camera * p_cad;
+  double u, v;
+  if (!camera.project(pc, u, v)) return false;
+  uv = {u, v};
+  return true;
+}
+
+void draw_axis_segment(Image& img, const Camera& camera, const Pose& cad_to_camera, const Eigen::Vector3d& a,
+                       const Eigen::Vector3d& b, const Rgb& core, double thickness_px, bool dashed) {
+  Eigen::Vector3d pa = cad_to_camera * a, pb = cad_to_camera * b;
+  const double near = 1.0;  // mm: clip to the front of the camera
+  if (pa.z() < near && pb.z() < near) return;
+  if (pa.z() < near) pa = pa + (pb - pa) * ((near - pa.z()) / (pb.z() - pa.z()));
+  if (pb.z() < near) pb = pb + (pa - pb) * ((near - pb.z()) / (pa.z() - pb.z()));
+  double ua, va, ub, vb;
+  if (!camera.project(pa, ua, va) || !camera.project(pb, ub, vb)) return;
+  const Eigen::Vector2d A(ua, va), B(ub, vb);
+  if (!dashed) {
+    draw_line(img, A, B, Rgb{0, 0, 0}, thickness_px + 2.0);
+    draw_line(img, A, B, core, thickness_px);
+    return;
+  }
+  // Dashes of ~6 px (a stretch bridged without data).
+  const double len = (B - A).norm();
+  const int n = std::clamp(static_cast<int>(len / 6.0), 1, 2000);
+  for (int k = 0; k < n; k += 2) {
+    const Eigen::Vector2d s = A + (B - A) * (double(k) / n), e = A + (B - A) * (double(k + 1) / n);
+    draw_line(img, s, e, Rgb{0, 0, 0}, thickness_px + 2.0);
+    draw_line(img, s, e, core, thickness_px);
+  }
+}
+
+Rgb scale_rgb(const Rgb& c, double f) {
+  Rgb out;
+  for (int k = 0; k < 3; ++k) out[k] = static_cast<std::uint8_t>(std::clamp(std::lround(c[k] * f), 0L, 255L));
+  return out;
+}
+
+}  // namespace ewis::report_detail
