@@ -1,0 +1,114 @@
+#pragma once
+// Interference (clearance) detection, paper 4.3.2: S = the cable's points, P = every other (filtered) point.
+// Points of P closer than clearance_mm to the cable's FITTED surface (distance to the chain's axis minus its
+// radius) are labelled with what they lie on, clustered (Euclidean clustering over the k-d tree) per label,
+// small clusters are dropped, and each kept one is reported with the true surface-to-surface gap:
+//  - label: another measured cable when the point is one of its points or within label_tolerance_mm of its
+//    fitted surface; else the rigid CAD element whose registered surface is within label_tolerance_mm
+//    (the nearer one wins); else nothing: a foreign object (`with` null);
+//  - the cable's own CAD element and the elements of its `attached` list are never interferences;
+//  - P points within own_surface_band_mm of the cable's own fitted surface are its own points that the trace
+//    did not claim (mixed pixels on its silhouette), and points whose nearest chain point is past the chain's
+//    ends are its untraced continuation (into a connector or clamp): both are ignored; so are mixed pixels on
+//    the cable's silhouette rays (see InterferenceParams::has_sensor);
+//  - clusters smaller than max(min_cluster_points, min_cluster_area_mm2 / resolution^2) points (about a
+//    2 x 2 mm patch at the scan's resolution) are noise; the clustering links points closer than
+//    cluster_tolerance_factor x resolution (at least 1 mm);
+//  - another measured cable is checked on the fitted models alone: its chain-to-chain gap below clearance_mm
+//    is an interference (a cable crossing on top shows the sensor only its far side, so no point of it lies
+//    within the clearance); its points near the crossing are the entry's points (none: not reported);
+//  - all kept clusters with the same `with` (a named element) are merged into ONE entry (its points, centre
+//    and the element's gap); foreign-object clusters stay separate;
+//  - min_distance_mm (DESIGN.md "Measurement lessons": the facing flanks are never seen, so point gaps read
+//    wide): to another cable, the distance between the two chains' axes minus both radii; to a rigid element,
+//    the exact distance from the cable's axis to the element's registered CAD triangles minus the radius;
+//    to a foreign object, the least (axis distance minus radius) over the cluster's points. Clamped at 0. An
+//    entry whose surface gap is not below clearance_mm is dropped (the points were close, the surfaces not).
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ewis/core/cloud.hpp"
+#include "ewis/core/cylinder.hpp"
+#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/scene.hpp"
+#include "ewis/search/kdtree.hpp"
+
+namespace ewis {
+
+// A cable as measured (the traced chain), in the cloud's frame.
+struct MeasuredCable {
+  std::string name;
+  int element = -1;                     // its CAD element in the scene, -1 when absent
+  bool found = false;
+  double radius_mm = 0.0;               // fitted radius
+  std::vector<Cylinder> chain;          // sub-cables, end to end
+  std::vector<std::uint32_t> points;    // its scan points (cloud indices), sorted (the set S)
+};
+
+struct InterferenceParams {
+  double clearance_mm = 0.0;            // the plan's least allowed surface-to-surface gap
+  double resolution_mm = 0.5;           // scan point spacing R(PC)
+  double cluster_tolerance_factor = 3.0;
+  std::size_t min_cluster_points = 10;
+  double min_cluster_area_mm2 = 4.0;
+  double label_tolerance_mm = 2.5;      // registration + noise: a point this near a surface lies on it
+  double own_surface_band_mm = 1.0;
+  double surface_step_mm = 0.25;        // sampling step along the axis for the gap to CAD triangles
+  // Mixed pixels (a depth between a cable's silhouette and the background, on the silhouette's rays): with
+  // the sensor position known, a point whose camera ray passes a measured cable's fitted surface closer than
+  // ray_graze_mm (<= 0: the resolution, about a pixel's footprint) and markedly closer (ray_graze_margin_mm)
+  // than the point itself lies from it is such a pixel, or hidden behind the cable: not a surface seen there.
+  bool has_sensor = false;
+  Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();  // the cloud's frame
+  double ray_graze_mm = 0.0;
+  double ray_graze_margin_mm = 0.5;
+  // An object lying over the cable on the sensor's side shows only its top: its points read up to its
+  // thickness farther than its hidden underside. With the sensor known, points up to occlusion_extra_mm beyond
+  // the clearance whose camera ray, continued, hits the cable (they hide it) are candidates too, and a
+  // foreign cluster with at least the minimum cluster size of such points is reported even when its seen
+  // points are all beyond the clearance (`occluding`; its min_distance_mm is then an upper bound).
+  double occlusion_extra_mm = 10.0;
+  // A point that is on no measured cable and no rigid surface but within cable_cad_tolerance_mm of another
+  // cable's registered CAD surface is that cable's (a stretch its trace did not cover, e.g. where it crosses
+  // over this one): not a foreign object. Cables stray from their CAD, hence the wider tolerance.
+  double cable_cad_tolerance_mm = 6.0;
+};
+
+struct Interference {
+  std::optional<std::string> with;      // the element's name; nullopt: a foreign object
+  int with_element = -1;                // scene element (rigid, or the other cable's CAD), -1 for foreign
+  int with_cable = -1;                  // index in the cables list when the other object is a measured cable
+  double min_distance_mm = 0.0;         // surface-to-surface gap
+  std::vector<std::uint32_t> points;    // cloud indices, increasing
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d closest_on_cable = Eigen::Vector3d::Zero();  // the gap's two ends (axis side: on the surface)
+  Eigen::Vector3d closest_on_other = Eigen::Vector3d::Zero();
+  std::size_t occluding_points = 0;     // points hiding the cable from the sensor (over it, on its camera side)
+};
+
+// Interferences of cables[which] (found, with a chain). `rigid` indexes the rigid elements' CAD triangles (in
+// the cloud's frame); `ignore_elements`: scene elements never reported (the cable's own, its attached list).
+// Sorted by gap, then by first point. Deterministic for any thread count.
+std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& tree, const Scene& scene,
+                                             const SurfaceIndex& rigid, const std::vector<MeasuredCable>& cables,
+                                             std::size_t which, const std::vector<int>& ignore_elements,
+                                             const InterferenceParams& params);
+
+// Optional extra knowledge for the labelling: the other cables' CAD surfaces (an index over the cable
+// elements), and a test "p is hidden from the sensor by a rigid CAD surface" (then p is a mixed pixel of that
+// element's silhouette, never a surface seen there). Either may be empty.
+struct InterferenceContext {
+  const SurfaceIndex* cable_cad = nullptr;
+  // true when p is hidden from the sensor by a CAD surface (any element but this cable)
+  std::function<bool(const Eigen::Vector3d&)> hidden_by_rigid;
+};
+std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& tree, const Scene& scene,
+                                             const SurfaceIndex& rigid, const std::vector<MeasuredCable>& cables,
+                                             std::size_t which, const std::vector<int>& ignore_elements,
+                                             const InterferenceParams& params, const InterferenceContext& context);
+
+}  // namespace ewis

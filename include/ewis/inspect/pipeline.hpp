@@ -1,0 +1,132 @@
+#pragma once
+// The online inspection (paper 4): filtering (4.1.1), registration to the rigid CAD elements (4.1.2), every
+// cable traced as a chain of cylinders from its registered CAD (4.2), bend radius (4.3.1) and interference
+// (4.3.2) checks against the plan's rules, and the verdict. `inspect` computes; `report_to_json` writes
+// report.json exactly as CONTRACT.md says; `result_clouds` gives the coloured clouds for PLY files and pictures.
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ewis/core/cloud.hpp"
+#include "ewis/core/pose.hpp"
+#include "ewis/core/progress.hpp"
+#include "ewis/filter/outlier_removal.hpp"
+#include "ewis/inspect/bend_radius.hpp"
+#include "ewis/inspect/interference.hpp"
+#include "ewis/io/plan_file.hpp"
+#include "ewis/register/cad_target.hpp"
+#include "ewis/register/scan_to_cad.hpp"
+#include "ewis/scene/scene.hpp"
+#include "ewis/tubes/trace.hpp"
+
+namespace ewis {
+
+struct InspectParams {
+  RadiusOutlierParams outliers;         // paper 4.1.1; derived from the resolution by default
+  CadTargetParams target;               // CAD samples the registration aligns to
+  ScanToCadParams registration;
+  bool register_scan = true;            // false: the initial pose is used as it is (it must be given)
+  double cable_sample_spacing_mm = 0.0; // CAD cable samples seeding the trace; <= 0: max(0.5, radius / 2)
+  double rigid_surface_mm = 1.5;        // scan points this near a rigid CAD surface are not cable points
+  double min_found_length_diameters = 1.0;  // a traced chain shorter than this is "not found"
+  int max_runs = 6;                     // traces per cable (stretches between clamps)
+  // A CAD cable sample is covered by a run when within max(covered_radii x radius, covered_min_mm) of its
+  // chain (the as-built cable strays from its CAD); uncovered samples (outside attached elements) seed the
+  // next run while at least max(20, 3%) of them remain.
+  double covered_radii = 3.0;
+  double covered_min_mm = 15.0;
+  BendRadiusParams bend;
+  PaperBendParams paper_bend;
+  InterferenceParams interference;      // clearance_mm and resolution_mm are set per cable / scan
+  // Attached elements end the measured run (CONTRACT): the trace stops where its centreline enters an
+  // attached rigid element's bounding box grown by attach_box_margin_radii x radius while within
+  // radius + max(1 mm, 0.2 radius) of its surface, or comes within 0.5 radius of an attached cable's surface.
+  double attach_box_margin_radii = 0.5;
+  // A candidate interference point behind a rigid CAD surface by more than this (seen from the sensor) is a
+  // mixed pixel of that element's silhouette (InterferenceContext::hidden_by_rigid).
+  double hidden_margin_mm = 1.5;
+  bool list_rigid = true;               // also list the plan's rigid elements in the report
+};
+
+struct CableInspection {
+  std::string name;
+  int element = -1;                     // scene element index
+  double nominal_diameter_mm = 0.0;     // the plan's
+  bool found = false;
+  double diameter_mm = 0.0;             // measured: 2 x the chain's radius
+  double length_mm = 0.0;
+  BendRadiusResult bend;                // 3D measure (min_radius_mm, location, profile)
+  std::optional<double> min_bend_radius_mm;        // centreline
+  std::optional<double> min_bend_radius_inner_mm;  // centreline radius - measured diameter / 2
+  std::optional<Eigen::Vector3d> min_bend_location;
+  PaperBendResult paper_bend;           // paper 4.3.1's figure (extra)
+  double allowed_bend_radius_mm = 0.0;  // 0: no rule
+  BendReference bend_reference = BendReference::Centreline;
+  double clearance_mm = 0.0;
+  std::optional<bool> bend_ok;          // nullopt when not found
+  std::optional<bool> clearance_ok;
+  std::vector<Interference> interferences;
+  // The cable as traced: one run per stretch between attached elements (a clamp mid-cable ends a run, the
+  // next run starts from the CAD samples not yet covered). `trace` merges them: segments and gaps run after
+  // run, points the sorted union, length the sum, radius the point-weighted mean; its centreline is the
+  // first run's (each run's is in `runs`).
+  std::vector<TubeTrace> runs;
+  TubeTrace trace;
+};
+
+struct RigidInspection {
+  std::string name;
+  int element = -1;
+  std::size_t points = 0;               // filtered scan points on its registered surface
+};
+
+struct StepTiming {
+  std::string step;
+  double seconds = 0.0;
+};
+
+struct InspectionResult {
+  bool pass = false;
+  Pose scan_to_cad = Pose::Identity();
+  double registration_rmse_mm = 0.0;
+  double registration_fitness = 0.0;
+  bool registration_converged = false;
+  bool registration_global = false;     // no initial pose (or it failed): global registration was used
+  std::size_t scan_points = 0;          // input
+  std::size_t filtered_points = 0;
+  double outlier_radius_mm = 0.0;
+  int outlier_min_neighbors = 0;
+  double resolution_mm = 0.0;           // median nearest-neighbour distance of the filtered scan
+  Cloud cloud;                          // the filtered scan in CAD coordinates
+  Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();  // CAD coordinates
+  Eigen::Vector3d optical_axis = Eigen::Vector3d::UnitZ();    // CAD coordinates
+  std::vector<CableInspection> cables;  // plan order
+  std::vector<RigidInspection> rigid;   // plan order (the plan's rigid elements)
+  std::vector<StepTiming> timings;      // never written into report.json
+};
+
+// Checks that every element the plan names (and every attached name) exists in the scene; throws
+// InputError(plan_path, ...) otherwise.
+void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, const std::string& plan_path);
+
+// The whole inspection. `scan` is in the sensor's frame (mm). Throws ProcessingError when registration fails
+// or the filtered scan is empty. Deterministic for any thread count.
+InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const Cloud& scan,
+                         const std::optional<Pose>& initial_scan_to_cad, const InspectParams& params = {},
+                         const ProgressFn& progress = {});
+
+// report.json (CONTRACT.md): cables (and the plan's rigid elements when listed) in plan order, numbers in a
+// fixed format, no timings. Byte-identical for identical results.
+std::string report_to_json(const InspectionResult& result, const InspectionPlan& plan);
+
+// Coloured clouds (CAD coordinates) for PLY files and pictures: each cable's points in its own colour, the
+// interference clusters in red/orange, everything else grey.
+struct ResultClouds {
+  Cloud cables, interferences, rest;
+};
+ResultClouds result_clouds(const InspectionResult& result);
+// A distinct colour per cable index.
+Rgb cable_color(std::size_t index);
+
+}  // namespace ewis

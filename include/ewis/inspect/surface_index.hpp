@@ -1,0 +1,52 @@
+#pragma once
+// Exact closest-point queries on CAD triangles (a bounding-volume hierarchy over a chosen set of elements):
+// the interference check measures gaps to the registered CAD surface of rigid elements (DESIGN.md
+// "Measurement lessons": the sensor never sees the flanks that face each other, so point-based gaps read wide).
+#include <Eigen/Core>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "ewis/scene/scene.hpp"
+
+namespace ewis {
+
+struct SurfacePoint {
+  double distance_mm = std::numeric_limits<double>::infinity();  // infinity: nothing within the limit
+  std::int32_t element = -1;
+  std::uint32_t triangle = 0;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // closest point on the surface
+  bool found() const { return element >= 0; }
+};
+
+class SurfaceIndex {
+ public:
+  SurfaceIndex() = default;
+  // Indexes the triangles of `elements` (scene element indices; empty list: nothing). The scene must outlive it.
+  SurfaceIndex(const Scene& scene, const std::vector<int>& elements);
+
+  bool empty() const { return nodes_.empty(); }
+  // Closest surface point within max_distance_mm (exact point-to-triangle distance). Thread-safe.
+  SurfacePoint closest(const Eigen::Vector3d& p, double max_distance_mm = std::numeric_limits<double>::infinity()) const;
+  // Least distance from the segment [a, b] to the surface, sampled every step_mm along the segment and refined
+  // around the best sample (error far below step for smooth surfaces); infinity when beyond max_distance_mm.
+  SurfacePoint closest_to_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double step_mm = 0.25,
+                                  double max_distance_mm = std::numeric_limits<double>::infinity()) const;
+
+ private:
+  struct Node {
+    Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
+    std::uint32_t first = 0, count = 0;  // leaf: triangles [first, first + count) of order_
+    std::uint32_t left = 0, right = 0;   // inner node (count == 0)
+  };
+  const Scene* scene_ = nullptr;
+  std::vector<Node> nodes_;
+  std::vector<std::uint32_t> order_;  // triangle indices
+  std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Eigen::Vector3f>& centroids, int depth);
+};
+
+// Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5).
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
+
+}  // namespace ewis

@@ -1,0 +1,51 @@
+#pragma once
+// The registration target built from the CAD (paper 4.1.1-4.2): area-weighted samples of the RIGID elements
+// only, with their triangle normals. Cables are flexible and move (paper 4.2), so they never anchor the pose:
+// the cable elements are sampled too, but only to mark an exclusion zone around their CAD position.
+//
+// Rule: a scan point (in CAD coordinates, at the current pose estimate) is left out of the registration when it
+// lies within `cable_margin_mm` + the sampling spacing of a cable's sampled CAD surface, i.e. within
+// radius + margin of the cable's CAD centreline. Points of a cable that moved farther than that find no rigid
+// surface within the final correspondence distance (or are down-weighted by the robust kernel).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "ewis/core/cloud.hpp"
+#include "ewis/core/pose.hpp"
+#include "ewis/io/plan_file.hpp"
+#include "ewis/scene/scene.hpp"
+#include "ewis/search/kdtree.hpp"
+
+namespace ewis {
+
+struct CadTargetParams {
+  double spacing_mm = 1.0;          // sample spacing (about the scan resolution)
+  std::size_t max_points = 2000000; // cap on the rigid samples (0: none)
+  std::uint64_t seed = 1;
+  double cable_margin_mm = 3.0;     // exclusion zone around a cable's CAD surface
+};
+
+// Owns the sampled clouds and their k-d trees (the trees reference the clouds: not copyable).
+struct CadTarget {
+  Cloud rigid;                               // rigid samples with triangle normals
+  std::vector<std::uint32_t> rigid_element;  // element index per rigid sample
+  Cloud cables;                              // cable samples (exclusion zone only)
+  std::unique_ptr<KdTree> rigid_tree;
+  std::unique_ptr<KdTree> cable_tree;        // null when the plan has no cable in the scene
+  double spacing_mm = 1.0;
+  double cable_margin_mm = 3.0;
+};
+
+// Elements the plan lists as cables are excluded from the anchor set; everything else (listed rigid or not
+// listed) anchors. Throws InputError when the scene has no rigid triangle at all.
+CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const CadTargetParams& params = {});
+
+// Indices (increasing) of `source` points that, mapped by source_to_cad, are farther than
+// target.cable_margin_mm + extra_margin_mm + target.spacing_mm from every cable sample: the points allowed to
+// pull the pose. All points when the target has no cables.
+std::vector<std::uint32_t> points_away_from_cables(const std::vector<Eigen::Vector3f>& source,
+                                                   const Pose& source_to_cad, const CadTarget& target,
+                                                   double extra_margin_mm = 0.0);
+
+}  // namespace ewis

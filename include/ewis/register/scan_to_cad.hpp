@@ -1,0 +1,39 @@
+#pragma once
+// Registration of a (filtered) scan to the CAD on its rigid elements (paper 4.1.2): from the initial pose when
+// one is given (ICP with a shrinking correspondence distance), else globally (FPFH + RANSAC), then the final
+// point-to-plane ICP with the cable exclusion zone re-evaluated at the refined pose.
+#include <optional>
+
+#include "ewis/register/cad_target.hpp"
+#include "ewis/register/global_registration.hpp"
+#include "ewis/register/icp.hpp"
+
+namespace ewis {
+
+struct ScanToCadParams {
+  IcpParams icp;                      // expected_error_mm: how far the initial pose may be off (default 60 mm)
+  GlobalRegistrationParams global;
+  double min_fitness = 0.3;           // below: the registration is not valid
+  bool global_fallback = true;        // an initial pose whose ICP does not validate is retried globally
+  int global_candidates = 3;          // best global candidates refined at full resolution; highest fitness wins
+  // The scan is in its sensor's frame (CONTRACT: scan.ply), so CAD faces turned away from the sensor are culled.
+  ScanToCadParams() {
+    icp.expected_error_mm = 60.0;
+    icp.use_source_viewpoint = true;
+    global.try_all_scales = true;  // candidates of every scale are re-ranked at full resolution
+  }
+};
+
+struct ScanToCadResult {
+  RegistrationResult registration;    // source_to_target = scan_to_cad; fitness over the points used
+  bool valid = false;                 // fitness >= min_fitness and the ICP converged
+  bool used_global = false;
+  std::size_t excluded_near_cables = 0;  // scan points left out as lying on a cable's CAD position
+};
+
+// `scan` in scan coordinates (mm, already filtered). Deterministic for any thread count.
+ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
+                                     const std::optional<Pose>& initial_scan_to_cad,
+                                     const ScanToCadParams& params = {}, const ProgressFn& progress = {});
+
+}  // namespace ewis

@@ -1,0 +1,254 @@
+// paper 4.3.2: interference detection (see interference.hpp for the rules).
+#include "ewis/inspect/interference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "ewis/core/parallel.hpp"
+#include "ewis/filter/euclidean_clusters.hpp"
+#include "ewis/inspect/chain_distance.hpp"
+
+namespace ewis {
+namespace {
+
+// What a candidate point lies on: kind 0 rigid element, 1 another cable, 2 nothing (foreign), 3 a mixed pixel.
+struct Label {
+  int kind = 2;
+  int index = -1;
+  bool operator<(const Label& o) const { return kind != o.kind ? kind < o.kind : index < o.index; }
+};
+
+bool contains_sorted(const std::vector<std::uint32_t>& v, std::uint32_t x) {
+  return std::binary_search(v.begin(), v.end(), x);
+}
+
+}  // namespace
+
+std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& tree, const Scene& scene,
+                                             const SurfaceIndex& rigid, const std::vector<MeasuredCable>& cables,
+                                             std::size_t which, const std::vector<int>& ignore_elements,
+                                             const InterferenceParams& params) {
+  return find_interferences(cloud, tree, scene, rigid, cables, which, ignore_elements, params, {});
+}
+
+std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& tree, const Scene& scene,
+                                             const SurfaceIndex& rigid, const std::vector<MeasuredCable>& cables,
+                                             std::size_t which, const std::vector<int>& ignore_elements,
+                                             const InterferenceParams& params, const InterferenceContext& context) {
+  std::vector<Interference> out;
+  if (which >= cables.size()) return out;
+  const MeasuredCable& me = cables[which];
+  if (!me.found || me.chain.empty() || cloud.empty()) return out;
+  const double r = me.radius_mm;
+  const double reach = r + params.clearance_mm;
+  const double graze = params.ray_graze_mm > 0 ? params.ray_graze_mm : std::max(params.resolution_mm, 1e-3);
+
+  // 1. Candidates: P points within clearance of the fitted surface (one radius query per sub-cable), and
+  //    with the sensor known, points a little farther that hide the cable from it.
+  const double extra = params.has_sensor ? std::max(0.0, params.occlusion_extra_mm) : 0.0;
+  const double query_reach = reach + extra;
+  std::vector<std::uint8_t> seen(cloud.size(), 0);
+  std::vector<std::uint8_t> occluding(cloud.size(), 0);
+  std::vector<std::uint32_t> candidates;
+  std::vector<Neighbor> nb;
+  for (const Cylinder& c : me.chain) {
+    const Eigen::Vector3d mid = 0.5 * (c.start + c.end);
+    tree.radius_unsorted(mid.cast<float>(), float(0.5 * c.length_mm() + query_reach + 1e-3), nb);
+    for (const Neighbor& n : nb) {
+      if (seen[n.index]) continue;
+      seen[n.index] = 1;
+      if (contains_sorted(me.points, n.index)) continue;  // S
+      const Eigen::Vector3d p = cloud.points[n.index].cast<double>();
+      const ChainPoint cp = distance_to_chain(me.chain, p);
+      if (cp.beyond_end) continue;
+      const double gap = cp.distance_mm - r;
+      if (gap < params.own_surface_band_mm || gap > params.clearance_mm + extra) continue;
+      if (gap > params.clearance_mm) {
+        // Beyond the clearance: only a point over the cable that hides it (its ray, continued, hits it).
+        const Eigen::Vector3d u = (p - params.sensor_position).normalized();
+        const Eigen::Vector3d q = p + u * (gap + 2.0 * r);
+        bool hides = false;
+        for (const Cylinder& s : me.chain)
+          if (segment_distance(p, q, s.start, s.end) < r) {
+            hides = true;
+            break;
+          }
+        if (!hides) continue;
+        occluding[n.index] = 1;
+        candidates.push_back(n.index);
+        continue;
+      }
+      if (params.has_sensor) {
+        // Mixed pixels of any measured cable's silhouette (this one's, or one crossing over it).
+        bool mixed = false;
+        for (std::size_t k = 0; k < cables.size() && !mixed; ++k) {
+          const MeasuredCable& mc = cables[k];
+          if (!mc.found || mc.chain.empty()) continue;
+          const double gap_k = k == which ? gap : distance_to_chain(mc.chain, p).distance_mm - mc.radius_mm;
+          double ray_gap = std::numeric_limits<double>::infinity();
+          for (const Cylinder& s : mc.chain)
+            ray_gap = std::min(ray_gap, segment_distance(params.sensor_position, p, s.start, s.end) - mc.radius_mm);
+          mixed = ray_gap < graze && ray_gap < gap_k - params.ray_graze_margin_mm;
+        }
+        if (mixed) continue;
+      }
+      candidates.push_back(n.index);
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  if (candidates.empty()) return out;
+
+  // 2. Labels.
+  std::vector<Label> labels(candidates.size());
+  parallel_for_each_index(candidates.size(), [&](std::size_t i) {
+    const std::uint32_t idx = candidates[i];
+    const Eigen::Vector3d p = cloud.points[idx].cast<double>();
+    double best = params.label_tolerance_mm;
+    Label l;
+    for (std::size_t k = 0; k < cables.size(); ++k) {
+      if (k == which || !cables[k].found || cables[k].chain.empty()) continue;
+      if (contains_sorted(cables[k].points, idx)) {
+        l = {1, int(k)};
+        best = 0;
+        break;
+      }
+      const double d = std::abs(distance_to_chain(cables[k].chain, p).distance_mm - cables[k].radius_mm);
+      if (d <= best) {
+        best = d;
+        l = {1, int(k)};
+      }
+    }
+    if (best > 0) {
+      const SurfacePoint s = rigid.closest(p, best);
+      if (s.found() && s.distance_mm <= best) l = {0, s.element};
+    }
+    if (l.kind == 2 && context.cable_cad) {
+      const SurfacePoint s = context.cable_cad->closest(p, params.cable_cad_tolerance_mm);
+      if (s.found() && s.element != me.element) {
+        l = {1, -1};  // another cable's stretch without a model: not an interference found by points
+        for (std::size_t k = 0; k < cables.size(); ++k)
+          if (cables[k].element == s.element) l.index = int(k);
+      }
+    }
+    if (l.kind == 2 && context.hidden_by_rigid && context.hidden_by_rigid(p)) l = {3, -1};  // a mixed pixel
+    labels[i] = l;
+  }, 256);
+
+  auto ignored = [&](int element) {
+    return element >= 0 && std::find(ignore_elements.begin(), ignore_elements.end(), element) != ignore_elements.end();
+  };
+  std::map<Label, std::vector<std::uint32_t>> groups;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    const Label& l = labels[i];
+    if (l.kind == 0 && (ignored(l.index) || l.index == me.element)) continue;
+    if (l.kind == 1 || l.kind == 3) continue;  // cables: from their fitted models below; mixed pixels: never
+    groups[l].push_back(candidates[i]);
+  }
+
+  // Cable to cable: both are measured models, so the gap is taken between the chains directly. A cable
+  // crossing on top of this one shows only its far side to the sensor (no point within the clearance), so
+  // points cannot decide this case; the other cable's points near the crossing count as its support.
+  for (std::size_t k = 0; k < cables.size(); ++k) {
+    const MeasuredCable& other = cables[k];
+    if (k == which || !other.found || other.chain.empty()) continue;
+    if (ignored(other.element) || (other.element >= 0 && other.element == me.element)) continue;
+    Eigen::Vector3d pa, pb;
+    const double axes = chain_distance(me.chain, other.chain, &pa, &pb);
+    const double gap = axes - r - other.radius_mm;
+    if (!(gap < params.clearance_mm)) continue;
+    Interference f;
+    const double near = r + params.clearance_mm + 2.0 * other.radius_mm;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (std::uint32_t i : other.points) {
+      const Eigen::Vector3d p = cloud.points[i].cast<double>();
+      if ((p - pa).norm() > near + other.radius_mm) continue;
+      if (distance_to_chain(me.chain, p).distance_mm - r > params.clearance_mm + 2.0 * other.radius_mm) continue;
+      f.points.push_back(i);
+      sum += p;
+    }
+    if (f.points.empty()) continue;  // no scan support near the crossing
+    f.center = sum / double(f.points.size());
+    f.with = other.name;
+    f.with_cable = int(k);
+    f.with_element = other.element;
+    f.min_distance_mm = std::max(0.0, gap);
+    const Eigen::Vector3d dir = (pb - pa).norm() > 0 ? Eigen::Vector3d((pb - pa).normalized()) : Eigen::Vector3d::UnitX();
+    f.closest_on_cable = pa + dir * r;
+    f.closest_on_other = pb - dir * other.radius_mm;
+    out.push_back(std::move(f));
+  }
+
+  // 3. Clusters per label; small ones are noise.
+  const double res = std::max(params.resolution_mm, 1e-3);
+  const double tol = std::max(1.0, params.cluster_tolerance_factor * res);
+  const std::size_t min_size = std::max<std::size_t>(
+      params.min_cluster_points, static_cast<std::size_t>(std::ceil(params.min_cluster_area_mm2 / (res * res))));
+  for (const auto& [label, subset] : groups) {
+    if (subset.size() < min_size) continue;
+    const ClusterResult cr = euclidean_clusters(tree, subset, tol, min_size);
+    if (cr.clusters.empty()) continue;
+    std::vector<std::vector<std::uint32_t>> parts;
+    if (label.kind == 2) {
+      parts = cr.clusters;
+    } else {
+      std::vector<std::uint32_t> merged;
+      for (const auto& c : cr.clusters) merged.insert(merged.end(), c.begin(), c.end());
+      std::sort(merged.begin(), merged.end());
+      parts.push_back(std::move(merged));
+    }
+    for (auto& pts : parts) {
+      Interference f;
+      f.points = pts;
+      std::sort(f.points.begin(), f.points.end());
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (std::uint32_t i : f.points) sum += cloud.points[i].cast<double>();
+      f.center = sum / double(f.points.size());
+      double gap = std::numeric_limits<double>::infinity();
+      if (label.kind == 0) {
+        f.with = scene.elements[label.index].name;
+        f.with_element = label.index;
+        const SurfaceIndex element_surface(scene, {label.index});
+        for (const Cylinder& c : me.chain) {
+          const double limit = std::isfinite(gap) ? gap + r : std::numeric_limits<double>::infinity();
+          const SurfacePoint s = element_surface.closest_to_segment(c.start, c.end, params.surface_step_mm, limit);
+          if (s.found() && s.distance_mm - r < gap) {
+            gap = s.distance_mm - r;
+            f.closest_on_other = s.point;
+          }
+        }
+        const ChainPoint cp = distance_to_chain(me.chain, f.closest_on_other);
+        const Cylinder& seg = me.chain[cp.segment];
+        const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
+        const Eigen::Vector3d d = f.closest_on_other - axis_pt;
+        f.closest_on_cable = axis_pt + (d.norm() > 0 ? Eigen::Vector3d(d.normalized() * r) : Eigen::Vector3d::Zero());
+      } else {
+        for (std::uint32_t i : f.points) {
+          const Eigen::Vector3d p = cloud.points[i].cast<double>();
+          const ChainPoint cp = distance_to_chain(me.chain, p);
+          if (cp.distance_mm - r < gap) {
+            gap = cp.distance_mm - r;
+            f.closest_on_other = p;
+            const Cylinder& seg = me.chain[cp.segment];
+            const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
+            f.closest_on_cable = axis_pt + (p - axis_pt).normalized() * r;
+          }
+        }
+      }
+      if (!std::isfinite(gap)) continue;
+      f.min_distance_mm = std::max(0.0, gap);
+      for (std::uint32_t i : f.points) f.occluding_points += occluding[i];
+      const bool hides_cable = label.kind == 2 && f.occluding_points >= min_size;
+      if (f.min_distance_mm >= params.clearance_mm && !hides_cable) continue;
+      out.push_back(std::move(f));
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const Interference& a, const Interference& b) {
+    if (a.min_distance_mm != b.min_distance_mm) return a.min_distance_mm < b.min_distance_mm;
+    return a.points.front() < b.points.front();
+  });
+  return out;
+}
+
+}  // namespace ewis

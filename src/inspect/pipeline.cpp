@@ -1,0 +1,349 @@
+// The online inspection, wired step by step (paper 4): each step is a call into its stage.
+#include "ewis/inspect/pipeline.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "ewis/core/error.hpp"
+#include "ewis/core/parallel.hpp"
+#include "ewis/filter/resolution.hpp"
+#include "ewis/inspect/chain_distance.hpp"
+#include "ewis/inspect/surface_index.hpp"
+#include "ewis/raycast/raycaster.hpp"
+#include "ewis/sample/mesh_sampling.hpp"
+#include "ewis/search/kdtree.hpp"
+
+namespace ewis {
+namespace {
+
+class StepClock {
+ public:
+  explicit StepClock(std::vector<StepTiming>& out) : out_(out), t0_(std::chrono::steady_clock::now()) {}
+  void lap(const std::string& step) {
+    const auto t = std::chrono::steady_clock::now();
+    out_.push_back({step, std::chrono::duration<double>(t - t0_).count()});
+    t0_ = t;
+  }
+
+ private:
+  std::vector<StepTiming>& out_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+bool inside_box(const Eigen::Vector3d& p, const Element& e, double margin) {
+  return (p.array() >= e.bounds_min.array() - margin).all() && (p.array() <= e.bounds_max.array() + margin).all();
+}
+
+}  // namespace
+
+void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, const std::string& plan_path) {
+  for (const PlanElement& e : plan.elements) {
+    if (scene.find(e.name) < 0) throw InputError(plan_path, "element '" + e.name + "' is not in the CAD scene");
+    for (const std::string& a : e.attached) {
+      if (scene.find(a) < 0)
+        throw InputError(plan_path, "element '" + e.name + "' is attached to '" + a + "', which is not in the CAD scene");
+      if (a == e.name) throw InputError(plan_path, "element '" + e.name + "' lists itself as attached");
+    }
+  }
+}
+
+InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const Cloud& scan,
+                         const std::optional<Pose>& initial_scan_to_cad, const InspectParams& params,
+                         const ProgressFn& progress) {
+  InspectionResult res;
+  StepClock clock(res.timings);
+  auto report = [&](const char* stage, double f) {
+    if (progress) progress(stage, f);
+  };
+  res.scan_points = scan.size();
+  if (scan.empty()) throw ProcessingError("the scan has no points");
+
+  // paper 4.1.1: radius outlier removal with parameters derived from the resolution.
+  report("filter", 0.0);
+  Cloud filtered;
+  {
+    const KdTree tree(scan.points);
+    const RadiusOutlierResult ror = remove_radius_outliers(tree, params.outliers);
+    res.outlier_radius_mm = ror.radius_mm;
+    res.outlier_min_neighbors = ror.min_neighbors;
+    filtered = select(scan, ror.kept);
+  }
+  res.filtered_points = filtered.size();
+  if (filtered.size() < 10) throw ProcessingError("fewer than 10 scan points are left after outlier removal");
+  report("filter", 1.0);
+  clock.lap("filter");
+
+  // paper 4.1.2: registration on the rigid elements (cables move).
+  report("register", 0.0);
+  ScanToCadResult reg;
+  if (params.register_scan || !initial_scan_to_cad) {
+    const CadTarget target = build_cad_target(scene, plan, params.target);
+    reg = register_scan_to_cad(filtered, target, initial_scan_to_cad, params.registration,
+                               [&](std::string_view, double f) { report("register", f); });
+  } else {
+    reg.registration.source_to_target = *initial_scan_to_cad;
+    reg.registration.converged = true;
+    reg.registration.fitness = 1.0;
+    reg.valid = true;
+  }
+  if (!reg.valid)
+    throw ProcessingError("registration to the CAD failed (fitness " + std::to_string(reg.registration.fitness) +
+                          ", rmse " + std::to_string(reg.registration.rmse_mm) + " mm)");
+  res.scan_to_cad = reg.registration.source_to_target;
+  res.registration_rmse_mm = reg.registration.rmse_mm;
+  res.registration_fitness = reg.registration.fitness;
+  res.registration_converged = reg.registration.converged;
+  res.registration_global = reg.used_global;
+  res.sensor_position = res.scan_to_cad.translation();
+  res.optical_axis = res.scan_to_cad.linear().col(2).normalized();
+  report("register", 1.0);
+  clock.lap("register");
+
+  // Everything from here on is in CAD coordinates.
+  res.cloud = std::move(filtered);
+  {
+    const Eigen::Matrix3f rot = res.scan_to_cad.linear().cast<float>();
+    const Eigen::Vector3f tr = res.scan_to_cad.translation().cast<float>();
+    for (auto& p : res.cloud.points) p = rot * p + tr;
+    for (auto& n : res.cloud.normals) n = rot * n;
+  }
+  const Cloud& cloud = res.cloud;
+  const KdTree tree(cloud.points);
+  res.resolution_mm = spatial_resolution(tree, 200000).median_mm;
+  if (!(res.resolution_mm > 0)) res.resolution_mm = 0.5;
+
+  // Which elements are cables (flexible) and which are rigid (everything the plan does not call a cable).
+  std::vector<bool> is_cable(scene.elements.size(), false);
+  for (const PlanElement& e : plan.elements)
+    if (e.kind == ElementKind::Cable) {
+      const int idx = scene.find(e.name);
+      if (idx >= 0) is_cable[idx] = true;
+    }
+  std::vector<int> rigid_elements;
+  for (std::size_t i = 0; i < scene.elements.size(); ++i)
+    if (!is_cable[i]) rigid_elements.push_back(int(i));
+  const SurfaceIndex rigid_surfaces(scene, rigid_elements);
+
+  // Points on a rigid CAD surface are never cable points (paper 4.2.1: the trace must not climb onto a
+  // bracket or run along a plate).
+  std::vector<std::int32_t> rigid_label(cloud.size(), -1);
+  parallel_for_each_index(cloud.size(), [&](std::size_t i) {
+    const SurfacePoint s = rigid_surfaces.closest(cloud.points[i].cast<double>(), params.rigid_surface_mm);
+    if (s.found()) rigid_label[i] = s.element;
+  }, 2048);
+  std::vector<std::uint8_t> usable(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) usable[i] = rigid_label[i] < 0 ? 1 : 0;
+  clock.lap("prepare");
+
+  // paper 4.2: every cable of the plan, traced from its registered CAD samples.
+  std::vector<const PlanElement*> cable_plans;
+  for (const PlanElement& e : plan.elements)
+    if (e.kind == ElementKind::Cable) cable_plans.push_back(&e);
+  std::vector<MeasuredCable> measured(cable_plans.size());
+  res.cables.resize(cable_plans.size());
+  for (std::size_t c = 0; c < cable_plans.size(); ++c) {
+    report("trace", double(c) / double(cable_plans.size()));
+    const PlanElement& pe = *cable_plans[c];
+    CableInspection& ci = res.cables[c];
+    ci.name = pe.name;
+    ci.element = scene.find(pe.name);
+    ci.nominal_diameter_mm = pe.diameter_mm;
+    ci.allowed_bend_radius_mm = pe.allowed_bend_radius_mm();
+    ci.bend_reference = pe.bend_reference;
+    ci.clearance_mm = pe.clearance_mm;
+    const double radius = 0.5 * pe.diameter_mm;
+
+    MeshSamplingParams sp;
+    sp.spacing_mm = params.cable_sample_spacing_mm > 0 ? params.cable_sample_spacing_mm : std::max(0.5, radius / 2);
+    sp.elements = {ci.element};
+    sp.seed = 1 + c;
+    sp.max_points = 200000;
+    const MeshSamples samples = sample_mesh(scene, sp);
+    std::vector<Eigen::Vector3d> cad_points;
+    cad_points.reserve(samples.cloud.size());
+    for (const auto& p : samples.cloud.points) cad_points.push_back(p.cast<double>());
+
+    // Attached elements end the run (CONTRACT "attached").
+    std::vector<int> attached_rigid, attached_cable;
+    for (const std::string& a : pe.attached) {
+      const int idx = scene.find(a);
+      if (idx < 0) continue;
+      (is_cable[idx] ? attached_cable : attached_rigid).push_back(idx);
+    }
+    const SurfaceIndex attached_rigid_index(scene, attached_rigid);
+    const SurfaceIndex attached_cable_index(scene, attached_cable);
+    TubeParams tp;
+    tp.radius_mm = radius;
+    tp.resolution_mm = res.resolution_mm;
+    tp.usable = &usable;
+    tp.has_sensor = true;
+    tp.sensor_position = res.sensor_position;
+    if (!attached_rigid.empty() || !attached_cable.empty()) {
+      const double box_margin = params.attach_box_margin_radii * radius;
+      const double near_surface = radius + std::max(1.0, 0.2 * radius);
+      tp.stop_at = [&, box_margin, near_surface, radius](const Eigen::Vector3d& p) {
+        for (int e : attached_rigid)
+          if (inside_box(p, scene.elements[e], box_margin)) {
+            const SurfacePoint s = attached_rigid_index.closest(p, near_surface);
+            if (s.found()) return true;
+          }
+        if (!attached_cable_index.empty() && attached_cable_index.closest(p, 0.5 * radius).found()) return true;
+        return false;
+      };
+    }
+    // Runs: trace, mark the run's points unusable and its CAD samples covered, trace again from the rest.
+    std::vector<std::uint8_t> run_usable = usable;
+    tp.usable = &run_usable;
+    std::vector<std::uint8_t> covered(cad_points.size(), 0);
+    for (std::size_t i = 0; i < cad_points.size(); ++i)
+      for (int e : attached_rigid)
+        if (inside_box(cad_points[i], scene.elements[e], 0.0)) covered[i] = 1;
+    const double cover = std::max(params.covered_radii * radius, params.covered_min_mm);
+    const std::size_t min_left = std::max<std::size_t>(20, cad_points.size() * 3 / 100);
+    for (int run = 0; run < params.max_runs; ++run) {
+      std::vector<Eigen::Vector3d> seeds;
+      for (std::size_t i = 0; i < cad_points.size(); ++i)
+        if (!covered[i]) seeds.push_back(cad_points[i]);
+      if (seeds.size() < min_left) break;
+      TubeTrace t = trace_cable(cloud, tree, seeds, radius, tp);
+      const bool ok = t.found && !t.segments.empty() && t.length_mm >= params.min_found_length_diameters * pe.diameter_mm;
+      std::vector<Cylinder> chain;
+      for (const SubCable& s : t.segments) chain.push_back(s.cylinder);
+      std::size_t newly = 0;
+      if (ok) {
+        for (std::size_t i = 0; i < cad_points.size(); ++i)
+          if (!covered[i] && distance_to_chain(chain, cad_points[i]).distance_mm <= cover) {
+            covered[i] = 1;
+            ++newly;
+          }
+      }
+      if (!ok || newly == 0) break;  // nothing more to find (bounded either way)
+      for (std::uint32_t i : t.points) run_usable[i] = 0;
+      ci.runs.push_back(std::move(t));
+    }
+    ci.found = !ci.runs.empty();
+    if (ci.found) {
+      TubeTrace& m = ci.trace;
+      m = ci.runs.front();
+      double weighted = 0;
+      std::size_t weight = 0;
+      m.length_mm = 0;
+      m.segments.clear();
+      m.gaps.clear();
+      m.points.clear();
+      for (const TubeTrace& t : ci.runs) {
+        m.segments.insert(m.segments.end(), t.segments.begin(), t.segments.end());
+        m.gaps.insert(m.gaps.end(), t.gaps.begin(), t.gaps.end());
+        m.points.insert(m.points.end(), t.points.begin(), t.points.end());
+        m.length_mm += t.length_mm;
+        weighted += t.radius_mm * double(std::max<std::size_t>(1, t.points.size()));
+        weight += std::max<std::size_t>(1, t.points.size());
+      }
+      m.radius_mm = weighted / double(weight);
+      std::sort(m.points.begin(), m.points.end());
+      m.points.erase(std::unique(m.points.begin(), m.points.end()), m.points.end());
+    }
+    MeasuredCable& m = measured[c];
+    m.name = pe.name;
+    m.element = ci.element;
+    m.found = ci.found;
+    if (ci.found) {
+      m.radius_mm = ci.trace.radius_mm;
+      for (const SubCable& s : ci.trace.segments) m.chain.push_back(s.cylinder);
+      m.points = ci.trace.points;
+    }
+  }
+  report("trace", 1.0);
+  clock.lap("trace");
+
+  // paper 4.3.1: bend radius.
+  for (std::size_t c = 0; c < res.cables.size(); ++c) {
+    CableInspection& ci = res.cables[c];
+    if (!ci.found) continue;
+    ci.diameter_mm = 2.0 * ci.trace.radius_mm;
+    ci.length_mm = ci.trace.length_mm;
+    // The smallest radius over the runs; the paper's figure from the same run.
+    std::size_t best_run = 0;
+    for (std::size_t k = 0; k < ci.runs.size(); ++k) {
+      BendRadiusResult b = measure_bend_radius(ci.runs[k].centerline, ci.nominal_diameter_mm, params.bend);
+      const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
+      if (better) {
+        ci.bend = std::move(b);
+        best_run = k;
+      }
+    }
+    ci.min_bend_radius_mm = ci.bend.min_radius_mm;
+    ci.min_bend_location = ci.bend.location;
+    if (ci.min_bend_radius_mm) ci.min_bend_radius_inner_mm = *ci.min_bend_radius_mm - 0.5 * ci.diameter_mm;
+    std::vector<Cylinder> run_chain;
+    for (const SubCable& s : ci.runs[best_run].segments) run_chain.push_back(s.cylinder);
+    ci.paper_bend = paper_bend_radius(run_chain, res.optical_axis, ci.nominal_diameter_mm, params.paper_bend);
+    bool ok = true;
+    if (ci.allowed_bend_radius_mm > 0 && ci.min_bend_radius_mm) {
+      const double measured_radius =
+          ci.bend_reference == BendReference::Inner ? *ci.min_bend_radius_inner_mm : *ci.min_bend_radius_mm;
+      ok = measured_radius >= ci.allowed_bend_radius_mm;
+    }
+    ci.bend_ok = ok;
+  }
+  clock.lap("bend");
+
+  // paper 4.3.2: interference, cable by cable.
+  std::vector<int> cable_elements;
+  for (std::size_t i = 0; i < scene.elements.size(); ++i)
+    if (is_cable[i]) cable_elements.push_back(int(i));
+  const SurfaceIndex cable_cad(scene, cable_elements);
+  const Eigen::Vector3d sensor = res.sensor_position;
+  const double hidden_margin = params.hidden_margin_mm;
+  for (std::size_t c = 0; c < res.cables.size(); ++c) {
+    report("interference", double(c) / double(res.cables.size()));
+    CableInspection& ci = res.cables[c];
+    if (!ci.found) continue;
+    std::vector<int> ignore = {ci.element};
+    for (const std::string& a : cable_plans[c]->attached) ignore.push_back(scene.find(a));
+    InterferenceParams ip = params.interference;
+    ip.clearance_mm = ci.clearance_mm;
+    ip.resolution_mm = res.resolution_mm;
+    ip.has_sensor = true;
+    ip.sensor_position = res.sensor_position;
+    // Every CAD element but this cable may hide a point from the sensor (then it is a mixed pixel).
+    std::vector<bool> mask(scene.elements.size(), true);
+    mask[ci.element] = false;
+    const Raycaster caster(scene, mask);
+    InterferenceContext context;
+    context.cable_cad = &cable_cad;
+    context.hidden_by_rigid = [&caster, sensor, hidden_margin](const Eigen::Vector3d& p) {
+      const Eigen::Vector3d d = p - sensor;
+      const double len = d.norm();
+      if (!(len > hidden_margin)) return false;
+      Ray ray;
+      ray.origin = sensor.cast<float>();
+      ray.direction = (d / len).cast<float>();
+      ray.tmax_mm = float(len - hidden_margin);
+      return caster.occluded(ray);
+    };
+    ci.interferences = find_interferences(cloud, tree, scene, rigid_surfaces, measured, c, ignore, ip, context);
+    ci.clearance_ok = ci.interferences.empty();
+  }
+  report("interference", 1.0);
+  clock.lap("interference");
+
+  if (params.list_rigid) {
+    for (const PlanElement& e : plan.elements) {
+      if (e.kind != ElementKind::Rigid) continue;
+      RigidInspection r;
+      r.name = e.name;
+      r.element = scene.find(e.name);
+      for (std::int32_t l : rigid_label) r.points += (l == r.element) ? 1 : 0;
+      res.rigid.push_back(r);
+    }
+  }
+
+  res.pass = true;
+  for (const CableInspection& ci : res.cables)
+    if (!ci.found || ci.bend_ok == false || ci.clearance_ok == false) res.pass = false;
+  return res;
+}
+
+}  // namespace ewis

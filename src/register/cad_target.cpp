@@ -1,0 +1,58 @@
+// The registration target from the CAD: rigid elements anchor the pose, cables only mark where scan points
+// must be ignored (paper 4.2: cables are flexible and move). See the rule in cad_target.hpp.
+#include "ewis/register/cad_target.hpp"
+
+#include <algorithm>
+
+#include "ewis/core/error.hpp"
+#include "ewis/core/parallel.hpp"
+#include "ewis/sample/mesh_sampling.hpp"
+
+namespace ewis {
+
+CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const CadTargetParams& params) {
+  std::vector<int> rigid, cables;
+  for (int e = 0; e < static_cast<int>(scene.elements.size()); ++e) {
+    if (scene.elements[e].triangle_count == 0) continue;
+    const PlanElement* pe = plan.find(scene.elements[e].name);
+    // CONTRACT: CAD objects the plan does not list are rigid.
+    (pe && pe->kind == ElementKind::Cable ? cables : rigid).push_back(e);
+  }
+  if (rigid.empty()) throw InputError("", "registration: the CAD has no rigid element to register to");
+
+  CadTarget t;
+  t.spacing_mm = params.spacing_mm;
+  t.cable_margin_mm = params.cable_margin_mm;
+  MeshSamplingParams sp;
+  sp.spacing_mm = params.spacing_mm;
+  sp.max_points = params.max_points;
+  sp.seed = params.seed;
+  sp.elements = rigid;
+  MeshSamples rs = sample_mesh(scene, sp);
+  t.rigid = std::move(rs.cloud);
+  t.rigid_element = std::move(rs.element);
+  if (t.rigid.empty()) throw InputError("", "registration: sampling the rigid CAD elements gave no points");
+  t.rigid_tree = std::make_unique<KdTree>(t.rigid.points);
+  if (!cables.empty()) {
+    sp.elements = cables;
+    sp.seed = params.seed + 1;
+    t.cables = std::move(sample_mesh(scene, sp).cloud);
+    if (!t.cables.empty()) t.cable_tree = std::make_unique<KdTree>(t.cables.points);
+  }
+  return t;
+}
+
+std::vector<std::uint32_t> points_away_from_cables(const std::vector<Eigen::Vector3f>& source,
+                                                   const Pose& source_to_cad, const CadTarget& target,
+                                                   double extra_margin_mm) {
+  if (!target.cable_tree) return parallel_select(source.size(), [](std::size_t) { return true; });
+  const double zone = target.cable_margin_mm + extra_margin_mm + target.spacing_mm;
+  const float zone_sq = static_cast<float>(zone * zone);
+  const KdTree& tree = *target.cable_tree;
+  return parallel_select(source.size(), [&](std::size_t i) {
+    const Eigen::Vector3f p = (source_to_cad * source[i].cast<double>()).cast<float>();
+    return tree.nearest(p).distance_sq > zone_sq;
+  });
+}
+
+}  // namespace ewis

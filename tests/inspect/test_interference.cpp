@@ -1,0 +1,195 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "ewis/inspect/chain_distance.hpp"
+#include "ewis/inspect/interference.hpp"
+#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/primitives.hpp"
+
+using namespace ewis;
+
+namespace {
+
+constexpr double kRes = 0.5;  // point spacing of the synthetic scans
+
+void add_mesh(Scene& s, const std::string& name, const Mesh& m) { add_element(s, name, m.vertices, m.triangles); }
+
+// The half of a cylinder (axis a -> b) that a sensor at +z sees.
+std::vector<std::uint32_t> add_visible_cylinder(Cloud& c, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) {
+  std::vector<std::uint32_t> idx;
+  const Eigen::Vector3d ax = (b - a).normalized();
+  Eigen::Vector3d u = ax.cross(Eigen::Vector3d::UnitZ());
+  if (u.norm() < 1e-9) u = Eigen::Vector3d::UnitX();
+  u.normalize();
+  const Eigen::Vector3d v = ax.cross(u);
+  const int na = int(std::ceil((b - a).norm() / kRes)), nc = int(std::ceil(2 * M_PI * r / kRes));
+  for (int i = 0; i <= na; ++i)
+    for (int j = 0; j < nc; ++j) {
+      const double phi = 2 * M_PI * j / nc;
+      const Eigen::Vector3d n = std::cos(phi) * u + std::sin(phi) * v;
+      if (n.z() < -1e-9) continue;
+      idx.push_back(uint32_t(c.points.size()));
+      c.points.push_back((a + ax * ((b - a).norm() * i / na) + r * n).cast<float>());
+    }
+  return idx;
+}
+
+void add_top_face(Cloud& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  for (double x = lo.x(); x <= hi.x() + 1e-9; x += kRes)
+    for (double y = lo.y(); y <= hi.y() + 1e-9; y += kRes) c.points.emplace_back(float(x), float(y), float(hi.z()));
+}
+
+void add_upper_sphere(Cloud& c, const Eigen::Vector3d& center, double r) {
+  const int n = int(std::ceil(M_PI * r / kRes));
+  for (int i = 0; i <= n / 2; ++i) {
+    const double theta = M_PI / 2 * i / (n / 2);  // from the equator up
+    const int m = std::max(1, int(std::ceil(2 * M_PI * r * std::cos(theta) / kRes)));
+    for (int j = 0; j < m; ++j) {
+      const double phi = 2 * M_PI * j / m;
+      c.points.push_back((center + r * Eigen::Vector3d(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi),
+                                                       std::sin(theta))).cast<float>());
+    }
+  }
+}
+
+std::vector<Cylinder> straight_chain(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r, int n) {
+  std::vector<Cylinder> chain;
+  for (int i = 0; i < n; ++i) {
+    Cylinder c;
+    c.start = a + (b - a) * (double(i) / n);
+    c.end = a + (b - a) * (double(i + 1) / n);
+    c.radius_mm = r;
+    chain.push_back(c);
+  }
+  return chain;
+}
+
+const Interference* find_with(const std::vector<Interference>& v, const std::optional<std::string>& with) {
+  for (const auto& f : v)
+    if (f.with == with) return &f;
+  return nullptr;
+}
+
+}  // namespace
+
+TEST(SurfaceIndex, ExactDistanceToABox) {
+  Scene s;
+  add_mesh(s, "box", make_box({0, 0, 0}, {10, 10, 10}));
+  const SurfaceIndex idx(s, {0});
+  EXPECT_NEAR(idx.closest({5, 5, 13}).distance_mm, 3.0, 1e-9);
+  EXPECT_NEAR(idx.closest({13, 14, 5}).distance_mm, 5.0, 1e-9);
+  EXPECT_FALSE(idx.closest({5, 5, 13}, 2.0).found());
+  const SurfacePoint seg = idx.closest_to_segment({-20, 5, 17}, {30, 5, 12}, 0.5);
+  // z falls 1 mm per 10 mm of x: past the box edge (x 10, z 10) the least distance is 4 / sqrt(1.01)
+  EXPECT_NEAR(seg.distance_mm, 4.0 / std::sqrt(1.01), 1e-4);
+}
+
+TEST(ChainDistance, SegmentsAndChains) {
+  EXPECT_NEAR(segment_distance({0, 0, 0}, {10, 0, 0}, {5, -5, 3}, {5, 5, 3}), 3.0, 1e-12);
+  EXPECT_NEAR(segment_distance({0, 0, 0}, {10, 0, 0}, {12, 0, 0}, {20, 0, 0}), 2.0, 1e-12);
+  const auto a = straight_chain({0, 0, 0}, {100, 0, 0}, 5, 10);
+  const ChainPoint p = distance_to_chain(a, {50, 7, 0});
+  EXPECT_NEAR(p.distance_mm, 7.0, 1e-12);
+  EXPECT_FALSE(p.beyond_end);
+  EXPECT_TRUE(distance_to_chain(a, {-3, 1, 0}).beyond_end);
+}
+
+// Cable A along x (r 5) with: a bracket 2 mm away (seen from above only: its facing flank is hidden), a cable B
+// crossing over it with a 3 mm gap (only B's top is seen), a foreign sphere 1.5 mm away, an attached clamp
+// 1 mm away and a box 8 mm away (beyond the 5 mm clearance).
+TEST(Interference, AnalyticScene) {
+  const double r = 5.0, clearance = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {200, 0, 0}, r));
+  add_mesh(scene, "bracket", make_box({20, r + 2.0, -10}, {40, r + 22.0, 3}));
+  add_mesh(scene, "clamp", make_box({150, r + 1.0, -6}, {160, r + 10.0, 6}));
+  add_mesh(scene, "far_box", make_box({100, r + 8.0, -10}, {120, r + 28.0, 10}));
+  add_mesh(scene, "cable_B", make_cylinder({80, -60, 2 * r + 3.0}, {80, 60, 2 * r + 3.0}, r));
+  Cloud cloud;
+  MeasuredCable A, B;
+  A.name = "cable_A";
+  A.element = 0;
+  A.found = true;
+  A.radius_mm = r;
+  A.chain = straight_chain({0, 0, 0}, {200, 0, 0}, r, 40);
+  A.points = add_visible_cylinder(cloud, {0, 0, 0}, {200, 0, 0}, r);
+  B.name = "cable_B";
+  B.element = 4;
+  B.found = true;
+  B.radius_mm = r;
+  B.chain = straight_chain({80, -60, 2 * r + 3.0}, {80, 60, 2 * r + 3.0}, r, 24);
+  B.points = add_visible_cylinder(cloud, {80, -60, 2 * r + 3}, {80, 60, 2 * r + 3}, r);
+  add_top_face(cloud, {20, r + 2.0, -10}, {40, r + 22.0, 3});  // nearest seen point: 2.6 mm
+  add_top_face(cloud, {150, r + 1.0, -6}, {160, r + 10.0, 6});
+  add_top_face(cloud, {100, r + 8.0, -10}, {120, r + 28.0, 10});
+  add_upper_sphere(cloud, {60, -(r + 1.5 + 4.0), 0}, 4.0);
+  const KdTree tree(cloud.points);
+  const SurfaceIndex rigid(scene, {1, 2, 3});
+  InterferenceParams p;
+  p.clearance_mm = clearance;
+  p.resolution_mm = kRes;
+  const std::vector<MeasuredCable> cables = {A, B};
+  const auto found = find_interferences(cloud, tree, scene, rigid, cables, 0, {2 /* clamp attached */}, p);
+  ASSERT_EQ(found.size(), 3u);
+  const Interference* bracket = find_with(found, std::string("bracket"));
+  ASSERT_NE(bracket, nullptr);
+  EXPECT_NEAR(bracket->min_distance_mm, 2.0, 0.05);  // from the CAD surface, though the flank is unseen
+  EXPECT_GT(bracket->points.size(), 10u);
+  EXPECT_NEAR(bracket->center.x(), 30.0, 1.0);
+  const Interference* cb = find_with(found, std::string("cable_B"));
+  ASSERT_NE(cb, nullptr);
+  EXPECT_NEAR(cb->min_distance_mm, 3.0, 1e-6);
+  EXPECT_EQ(cb->with_cable, 1);
+  const Interference* foreign = find_with(found, std::nullopt);
+  ASSERT_NE(foreign, nullptr);
+  EXPECT_NEAR(foreign->min_distance_mm, 1.5, 0.15);
+  EXPECT_NEAR(foreign->center.x(), 60.0, 1.0);
+  EXPECT_EQ(find_with(found, std::string("clamp")), nullptr);
+  EXPECT_EQ(find_with(found, std::string("far_box")), nullptr);
+  // sorted by gap
+  EXPECT_LE(found[0].min_distance_mm, found[1].min_distance_mm);
+  EXPECT_LE(found[1].min_distance_mm, found[2].min_distance_mm);
+
+  // The clearance is mutual: B lists A.
+  const auto from_b = find_interferences(cloud, tree, scene, rigid, cables, 1, {}, p);
+  const Interference* ca = find_with(from_b, std::string("cable_A"));
+  ASSERT_NE(ca, nullptr);
+  EXPECT_NEAR(ca->min_distance_mm, 3.0, 1e-6);
+
+  // Without the attached list the clamp is an interference at 1 mm.
+  const auto no_attach = find_interferences(cloud, tree, scene, rigid, cables, 0, {}, p);
+  const Interference* clamp = find_with(no_attach, std::string("clamp"));
+  ASSERT_NE(clamp, nullptr);
+  EXPECT_NEAR(clamp->min_distance_mm, 1.0, 0.05);
+
+  // A smaller clearance drops what is farther.
+  p.clearance_mm = 1.8;
+  const auto tight = find_interferences(cloud, tree, scene, rigid, cables, 0, {2}, p);
+  ASSERT_EQ(tight.size(), 1u);
+  EXPECT_FALSE(tight[0].with.has_value());
+}
+
+TEST(Interference, TinyClustersAreNoise) {
+  const double r = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  Cloud cloud;
+  MeasuredCable A;
+  A.name = "cable_A";
+  A.element = 0;
+  A.found = true;
+  A.radius_mm = r;
+  A.chain = straight_chain({0, 0, 0}, {100, 0, 0}, r, 20);
+  A.points = add_visible_cylinder(cloud, {0, 0, 0}, {100, 0, 0}, r);
+  // three flying pixels 2 mm off the surface, and a few points hugging the surface (unclaimed mixed pixels)
+  for (int i = 0; i < 3; ++i) cloud.points.emplace_back(50.f + 0.3f * i, 0.f, float(r + 2.0));
+  for (int i = 0; i < 40; ++i) cloud.points.emplace_back(20.f + 0.5f * i, 0.f, float(r + 0.4));
+  const KdTree tree(cloud.points);
+  const SurfaceIndex rigid;
+  InterferenceParams p;
+  p.clearance_mm = 5.0;
+  p.resolution_mm = kRes;
+  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+}
