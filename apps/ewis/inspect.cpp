@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "ewis/report/report_html.hpp"
 #include "ewis/core/error.hpp"
 #include "ewis/inspect/pipeline.hpp"
 #include "ewis/io/cloud_io.hpp"
@@ -43,6 +44,7 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
     std::optional<Pose> pose;
     if (!opt->pose.empty()) pose = read_pose(opt->pose);
     if (scan.cloud.empty()) throw InputError(opt->scan, "no finite points");
+    check_scan_units(scan.cloud.points, opt->scan, opt->units);
     const double load_s = std::chrono::duration<double>(clock::now() - t0).count();
     log(common, "loaded " + std::to_string(scan.cloud.size()) + " scan points, " +
                     std::to_string(scene.elements.size()) + " CAD elements");
@@ -56,6 +58,9 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
     write_ply(clouds.cables, opt->out + "/cables.ply");
     write_ply(clouds.interferences, opt->out + "/interferences.ply");
     write_ply(clouds.rest, opt->out + "/rest.ply");
+    ReportParams report_params;
+    report_params.scan_name = opt->scan;
+    write_report_files(result, scene, plan, opt->out, ReportFiles{}, report_params);  // report.html
     write_file_atomic(opt->out + "/report.json", json);
     const double write_s = std::chrono::duration<double>(clock::now() - tw).count();
 
