@@ -7,18 +7,6 @@ namespace ewis::io_detail {
 
 namespace {
 
-std::vector<std::string_view> split_words(std::string_view line) {
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && is_space(line[i])) ++i;
-    const std::size_t b = i;
-    while (i < line.size() && !is_space(line[i])) ++i;
-    if (i > b) words.push_back(line.substr(b, i - b));
-  }
-  return words;
-}
-
 }  // namespace
 
 PcdHeader parse_pcd_header(const std::string& path, std::string_view bytes) {

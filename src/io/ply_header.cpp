@@ -7,18 +7,6 @@ namespace ewis::io_detail {
 
 namespace {
 
-std::vector<std::string_view> split_words(std::string_view line) {
-  std::vector<std::string_view> words;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && is_space(line[i])) ++i;
-    const std::size_t b = i;
-    while (i < line.size() && !is_space(line[i])) ++i;
-    if (i > b) words.push_back(line.substr(b, i - b));
-  }
-  return words;
-}
-
 ScalarType type_or_throw(const std::string& path, std::size_t line, std::string_view name) {
   ScalarType t;
   if (!parse_ply_type(name, t))

@@ -1,4 +1,6 @@
 #pragma once
+#include <string_view>
+#include <vector>
 // Internal to io/: allocation-free tokenising and number parsing with std::from_chars (no streams, no locale).
 #include <charconv>
 #include <cstddef>
@@ -13,6 +15,19 @@
 namespace ewis::io_detail {
 
 inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
+
+// The white-space separated words of a header line (views into `line`).
+inline std::vector<std::string_view> split_words(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && is_space(line[i])) ++i;
+    const std::size_t b = i;
+    while (i < line.size() && !is_space(line[i])) ++i;
+    if (i > b) words.push_back(line.substr(b, i - b));
+  }
+  return words;
+}
 
 // Parses the whole token as a number ("1", "-2.5e3", "+4", "nan", "inf"); false when anything is left over.
 template <class T>
