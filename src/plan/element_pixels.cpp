@@ -23,6 +23,18 @@ Ray pixel_ray(const Camera& camera, const Eigen::Matrix3d& rot, const Eigen::Vec
   return ray;
 }
 
+// Casts the ray of each listed pixel (index row * width + col) from the camera pose.
+void cast_pixels(const Raycaster& caster, const Camera& camera, const Pose& camera_to_cad,
+                 const std::vector<std::uint32_t>& pixels, std::vector<Ray>& rays, std::vector<Hit>& hits) {
+  const Eigen::Matrix3d rot = camera_to_cad.linear();
+  const Eigen::Vector3f origin = camera_to_cad.translation().cast<float>();
+  rays.resize(pixels.size());
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    rays[i] = pixel_ray(camera, rot, origin, int(pixels[i] % camera.width_px), int(pixels[i] / camera.width_px));
+  caster.cast(rays, hits);
+}
+
+
 }  // namespace
 
 bool element_footprint(const Scene& scene, const Camera& camera, const Pose& camera_to_cad, std::uint32_t element,
@@ -113,13 +125,9 @@ std::uint64_t count_visible_pixels(const Raycaster& caster, const Camera& camera
   if (!element_footprint(caster.scene(), camera, camera_to_cad, element, pixels))
     return count_element_pixels(caster, camera, camera_to_cad, element);  // element crosses the camera plane
   if (pixels.empty()) return 0;
-  const Eigen::Matrix3d rot = camera_to_cad.linear();
-  const Eigen::Vector3f origin = camera_to_cad.translation().cast<float>();
-  std::vector<Ray> rays(pixels.size());
-  for (std::size_t i = 0; i < pixels.size(); ++i)
-    rays[i] = pixel_ray(camera, rot, origin, int(pixels[i] % camera.width_px), int(pixels[i] / camera.width_px));
+  std::vector<Ray> rays;
   std::vector<Hit> hits;
-  caster.cast(rays, hits);
+  cast_pixels(caster, camera, camera_to_cad, pixels, rays, hits);
   std::uint64_t n = 0;
   for (const Hit& h : hits) n += h.element == element ? 1 : 0;
   return n;
@@ -137,12 +145,9 @@ std::uint64_t count_measurable_pixels(const Raycaster& caster, const Camera& cam
   }
   if (pixels.empty()) return 0;
   const Eigen::Matrix3d rot = camera_to_cad.linear();
-  const Eigen::Vector3f origin = camera_to_cad.translation().cast<float>();
-  std::vector<Ray> rays(pixels.size());
-  for (std::size_t i = 0; i < pixels.size(); ++i)
-    rays[i] = pixel_ray(camera, rot, origin, int(pixels[i] % camera.width_px), int(pixels[i] / camera.width_px));
+  std::vector<Ray> rays;
   std::vector<Hit> hits;
-  caster.cast(rays, hits);
+  cast_pixels(caster, camera, camera_to_cad, pixels, rays, hits);
   // Shadow rays towards the projector for the element's pixels that pass the incidence tests.
   const double cos_max = std::cos(model.max_incidence_deg * M_PI / 180.0);
   const Eigen::Vector3d eye = camera_to_cad.translation();
