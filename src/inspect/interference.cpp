@@ -8,6 +8,7 @@
 
 #include "ewis/core/parallel.hpp"
 #include "ewis/filter/euclidean_clusters.hpp"
+#include "ewis/filter/normals.hpp"
 #include "ewis/inspect/chain_distance.hpp"
 
 namespace ewis {
@@ -22,6 +23,24 @@ struct Label {
 
 bool contains_sorted(const std::vector<std::uint32_t>& v, std::uint32_t x) {
   return std::binary_search(v.begin(), v.end(), x);
+}
+
+// See InterferenceParams::veil_cos_max: most points' local surfaces contain their viewing rays.
+bool is_veil(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint32_t>& pts,
+             const InterferenceParams& params) {
+  NormalParams np;
+  np.radius_mm = std::max(params.veil_radius_mm, 4.0 * params.resolution_mm);
+  np.max_neighbors = 64;
+  np.viewpoint = params.sensor_position.cast<float>();
+  const std::vector<Eigen::Vector3f> normals = estimate_normals(tree, pts, np);
+  std::size_t grazing = 0, defined = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (normals[i].squaredNorm() == 0) continue;
+    ++defined;
+    const Eigen::Vector3d ray = (cloud.points[pts[i]].cast<double>() - params.sensor_position).normalized();
+    if (std::abs(ray.dot(normals[i].cast<double>())) < params.veil_cos_max) ++grazing;
+  }
+  return defined > 0 && double(grazing) >= params.veil_fraction * double(defined);
 }
 
 }  // namespace
@@ -142,9 +161,67 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   std::map<Label, std::vector<std::uint32_t>> groups;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
     const Label& l = labels[i];
-    if (l.kind == 0 && (ignored(l.index) || l.index == me.element)) continue;
-    if (l.kind == 1 || l.kind == 3) continue;  // cables: from their fitted models below; mixed pixels: never
+    // rigid elements and cables: from the models below; mixed pixels: never
+    if (l.kind != 2) continue;
     groups[l].push_back(candidates[i]);
+  }
+
+  const double res = std::max(params.resolution_mm, 1e-3);
+  const std::size_t min_size = std::max<std::size_t>(
+      params.min_cluster_points, static_cast<std::size_t>(std::ceil(params.min_cluster_area_mm2 / (res * res))));
+
+  // Cable to rigid element: the element's registered CAD surface against the measured chain (the facing
+  // flanks are seen by no sensor, so a point gap reads wide: DESIGN "Measurement lessons"). The scan must show
+  // the element there: at least a minimum cluster of points on its surface near the closest spot (a bracket
+  // that is missing or moved is not an interference at its CAD place).
+  Eigen::Vector3d chain_lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d chain_hi = -chain_lo;
+  for (const Cylinder& c : me.chain) {
+    chain_lo = chain_lo.cwiseMin(c.start).cwiseMin(c.end);
+    chain_hi = chain_hi.cwiseMax(c.start).cwiseMax(c.end);
+  }
+  for (std::size_t e = 0; e < scene.elements.size(); ++e) {
+    const Element& el = scene.elements[e];
+    if (!rigid.contains(int(e)) || ignored(int(e)) || int(e) == me.element) continue;
+    if ((el.bounds_min.array() > chain_hi.array() + reach).any() ||
+        (el.bounds_max.array() < chain_lo.array() - reach).any())
+      continue;
+    const SurfaceIndex element_surface(scene, {int(e)});
+    double gap = std::numeric_limits<double>::infinity();
+    Interference f;
+    for (const Cylinder& c : me.chain) {
+      const double limit = std::min(reach, std::isfinite(gap) ? gap + r : reach);
+      const SurfacePoint s = element_surface.closest_to_segment(c.start, c.end, params.surface_step_mm, limit);
+      if (s.found() && s.distance_mm - r < gap) {
+        gap = s.distance_mm - r;
+        f.closest_on_other = s.point;
+      }
+    }
+    if (!(gap < params.clearance_mm)) continue;
+    // Support: scan points (not the cable's own) on this element's surface near the closest spot.
+    const double support_radius = std::max(params.support_radius_mm, 2.0 * r + params.clearance_mm);
+    tree.radius_unsorted(f.closest_on_other.cast<float>(), float(support_radius), nb);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const Neighbor& n : nb) {
+      if (contains_sorted(me.points, n.index)) continue;
+      const Eigen::Vector3d p = cloud.points[n.index].cast<double>();
+      const SurfacePoint s = element_surface.closest(p, params.label_tolerance_mm);
+      if (!s.found()) continue;
+      f.points.push_back(n.index);
+      sum += p;
+    }
+    if (f.points.size() < min_size) continue;
+    std::sort(f.points.begin(), f.points.end());
+    f.center = sum / double(f.points.size());
+    f.with = el.name;
+    f.with_element = int(e);
+    f.min_distance_mm = std::max(0.0, gap);
+    const ChainPoint cp = distance_to_chain(me.chain, f.closest_on_other);
+    const Cylinder& seg = me.chain[cp.segment];
+    const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
+    const Eigen::Vector3d d = f.closest_on_other - axis_pt;
+    f.closest_on_cable = axis_pt + (d.norm() > 0 ? Eigen::Vector3d(d.normalized() * r) : Eigen::Vector3d::Zero());
+    out.push_back(std::move(f));
   }
 
   // Cable to cable: both are measured models, so the gap is taken between the chains directly. A cable
@@ -180,25 +257,13 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     out.push_back(std::move(f));
   }
 
-  // 3. Clusters per label; small ones are noise.
-  const double res = std::max(params.resolution_mm, 1e-3);
   const double tol = std::max(1.0, params.cluster_tolerance_factor * res);
-  const std::size_t min_size = std::max<std::size_t>(
-      params.min_cluster_points, static_cast<std::size_t>(std::ceil(params.min_cluster_area_mm2 / (res * res))));
+  // 3. Foreign points: clustered; small clusters are noise, veils are mixed pixels.
   for (const auto& [label, subset] : groups) {
     if (subset.size() < min_size) continue;
     const ClusterResult cr = euclidean_clusters(tree, subset, tol, min_size);
-    if (cr.clusters.empty()) continue;
-    std::vector<std::vector<std::uint32_t>> parts;
-    if (label.kind == 2) {
-      parts = cr.clusters;
-    } else {
-      std::vector<std::uint32_t> merged;
-      for (const auto& c : cr.clusters) merged.insert(merged.end(), c.begin(), c.end());
-      std::sort(merged.begin(), merged.end());
-      parts.push_back(std::move(merged));
-    }
-    for (auto& pts : parts) {
+    for (const std::vector<std::uint32_t>& pts : cr.clusters) {
+      if (params.has_sensor && is_veil(tree, cloud, pts, params)) continue;
       Interference f;
       f.points = pts;
       std::sort(f.points.begin(), f.points.end());
@@ -206,40 +271,21 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       for (std::uint32_t i : f.points) sum += cloud.points[i].cast<double>();
       f.center = sum / double(f.points.size());
       double gap = std::numeric_limits<double>::infinity();
-      if (label.kind == 0) {
-        f.with = scene.elements[label.index].name;
-        f.with_element = label.index;
-        const SurfaceIndex element_surface(scene, {label.index});
-        for (const Cylinder& c : me.chain) {
-          const double limit = std::isfinite(gap) ? gap + r : std::numeric_limits<double>::infinity();
-          const SurfacePoint s = element_surface.closest_to_segment(c.start, c.end, params.surface_step_mm, limit);
-          if (s.found() && s.distance_mm - r < gap) {
-            gap = s.distance_mm - r;
-            f.closest_on_other = s.point;
-          }
-        }
-        const ChainPoint cp = distance_to_chain(me.chain, f.closest_on_other);
-        const Cylinder& seg = me.chain[cp.segment];
-        const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
-        const Eigen::Vector3d d = f.closest_on_other - axis_pt;
-        f.closest_on_cable = axis_pt + (d.norm() > 0 ? Eigen::Vector3d(d.normalized() * r) : Eigen::Vector3d::Zero());
-      } else {
-        for (std::uint32_t i : f.points) {
-          const Eigen::Vector3d p = cloud.points[i].cast<double>();
-          const ChainPoint cp = distance_to_chain(me.chain, p);
-          if (cp.distance_mm - r < gap) {
-            gap = cp.distance_mm - r;
-            f.closest_on_other = p;
-            const Cylinder& seg = me.chain[cp.segment];
-            const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
-            f.closest_on_cable = axis_pt + (p - axis_pt).normalized() * r;
-          }
+      for (std::uint32_t i : f.points) {
+        const Eigen::Vector3d p = cloud.points[i].cast<double>();
+        const ChainPoint cp = distance_to_chain(me.chain, p);
+        if (cp.distance_mm - r < gap) {
+          gap = cp.distance_mm - r;
+          f.closest_on_other = p;
+          const Cylinder& seg = me.chain[cp.segment];
+          const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
+          f.closest_on_cable = axis_pt + (p - axis_pt).normalized() * r;
         }
       }
       if (!std::isfinite(gap)) continue;
       f.min_distance_mm = std::max(0.0, gap);
       for (std::uint32_t i : f.points) f.occluding_points += occluding[i];
-      const bool hides_cable = label.kind == 2 && f.occluding_points >= min_size;
+      const bool hides_cable = f.occluding_points >= min_size;
       if (f.min_distance_mm >= params.clearance_mm && !hides_cable) continue;
       out.push_back(std::move(f));
     }

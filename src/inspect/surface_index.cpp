@@ -32,8 +32,11 @@ SurfaceIndex::SurfaceIndex(const Scene& scene, const std::vector<int>& elements)
   for (int e : elements) {
     if (e < 0 || std::size_t(e) >= scene.elements.size()) continue;
     const Element& el = scene.elements[e];
+    elements_.push_back(e);
     for (std::uint32_t t = el.first_triangle; t < el.first_triangle + el.triangle_count; ++t) order_.push_back(t);
   }
+  std::sort(elements_.begin(), elements_.end());
+  elements_.erase(std::unique(elements_.begin(), elements_.end()), elements_.end());
   if (order_.empty()) return;
   std::vector<Eigen::Vector3f> centroids(scene.triangles.size());
   for (std::uint32_t t : order_) {

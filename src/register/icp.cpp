@@ -140,7 +140,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
 
   for (std::size_t s = 0; s < schedule.size(); ++s) {
     const double d = schedule[s];
-    const bool is_coarse = d > 4.0 * final_d;
+    const bool is_coarse = d > (params.coarse_distance_mm > 0 ? params.coarse_distance_mm : 4.0 * final_d);
     const std::vector<std::uint32_t>& idx = is_coarse ? coarse : all;
     const double c = std::max(params.kernel_noise_factor * params.noise_mm, d / params.kernel_distance_div);
     const double max_sq = d * d;

@@ -1,56 +1,114 @@
 // Scan-to-CAD registration on the rigid elements (paper 4.1.2, 4.2): ICP from the initial pose (or from the
 // global registration's pose), in two passes: a coarse pass with the cable exclusion zone widened by the pose
 // uncertainty, then a fine pass with the zone re-evaluated at the refined pose.
+//
+// Speed (issue 4): a pose has six unknowns, so a well-spread subsample of the scan (tens of thousands of points)
+// pins it far below the sensor noise; every step (exclusion zone, ICP, fitness) runs on that subsample. Each pass
+// matches against the part of the CAD target that faces the sensor and lies within the pass's correspondence
+// distance of the scan: a small k-d tree, built once per pass.
 #include "ewis/register/scan_to_cad.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 
 #include "ewis/core/error.hpp"
+#include "ewis/core/parallel.hpp"
 
 namespace ewis {
 namespace {
 
 struct Run {
   RegistrationResult reg;
-  std::size_t excluded = 0;
+  std::size_t excluded = 0;  // of the subsample
 };
 
-Run refine(const Cloud& scan, const CadTarget& target, const Pose& start, double expected_error_mm,
-           const ScanToCadParams& params, const ProgressFn& progress) {
+// Evenly strided points of the scan (in the sensor's raster order this is an even spread over the image).
+std::vector<Eigen::Vector3f> spread_subsample(const std::vector<Eigen::Vector3f>& points, std::size_t max_points) {
+  if (max_points == 0 || points.size() <= max_points) return points;
+  std::vector<Eigen::Vector3f> out(max_points);
+  const double step = static_cast<double>(points.size()) / static_cast<double>(max_points);
+  for (std::size_t i = 0; i < max_points; ++i) out[i] = points[static_cast<std::size_t>(i * step)];
+  return out;
+}
+
+// The CAD samples a pass may match: facing the sensor (when the scan is in its sensor's frame: a scanned plate's
+// top must not lock onto the CAD plate's bottom face) and inside the box of the scan at `pose` grown by
+// `margin_mm` (nothing farther can be a correspondence). Owns its k-d tree.
+struct TargetView {
+  Cloud cloud;
+  std::unique_ptr<KdTree> tree;
+};
+
+TargetView view_of(const CadTarget& target, const std::vector<Eigen::Vector3f>& source, const Pose& pose,
+                   bool cull_back_faces, const Eigen::Vector3d& viewpoint, double margin_mm) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
+  for (const auto& p : source) {
+    const Eigen::Vector3d q = pose * p.cast<double>();
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  const Eigen::Vector3f blo = (lo.array() - margin_mm).cast<float>(), bhi = (hi.array() + margin_mm).cast<float>();
+  const Eigen::Vector3d eye = pose * viewpoint;
+  const Cloud& t = target.rigid;
+  const std::vector<std::uint32_t> keep = parallel_select(t.size(), [&](std::size_t i) {
+    const Eigen::Vector3f& q = t.points[i];
+    if ((q.array() < blo.array()).any() || (q.array() > bhi.array()).any()) return false;
+    if (!cull_back_faces) return true;
+    // Keep normals at most ~100 deg from the direction to the sensor (grazing walls stay, far sides go).
+    const Eigen::Vector3d to_eye = eye - q.cast<double>();
+    return t.normals[i].cast<double>().dot(to_eye) > -0.2 * to_eye.norm();
+  });
+  TargetView v;
+  v.cloud = select(t, keep);
+  v.tree = std::make_unique<KdTree>(v.cloud.points);
+  return v;
+}
+
+Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
+           double expected_error_mm, const ScanToCadParams& params, const ProgressFn& progress) {
   IcpParams icp = params.icp;
   // Final distance: ~1 mm, but never below what the sampling spacing and the noise need.
   const double final_d = std::max(icp.final_max_distance_mm, target.spacing_mm + 3.0 * icp.noise_mm);
   icp.final_max_distance_mm = final_d;
   icp.expected_error_mm = expected_error_mm;
+  const bool cull = icp.use_source_viewpoint;
+  icp.use_source_viewpoint = false;  // done here, once per pass, on the cropped target
 
   // While the pose is uncertain, the zone around each cable grows by that uncertainty (bounded, so that a
   // scene with many cables keeps enough rigid points).
   std::vector<std::uint32_t> keep =
-      points_away_from_cables(scan.points, start, target, std::min(expected_error_mm, 20.0));
-  if (keep.size() < std::max<std::size_t>(50, scan.size() / 10))
-    keep = points_away_from_cables(scan.points, start, target, 0.0);
+      points_away_from_cables(scan, start, target, std::min(expected_error_mm, 20.0));
+  if (keep.size() < std::max<std::size_t>(50, scan.size() / 10)) keep = points_away_from_cables(scan, start, target, 0.0);
   Run run;
   if (keep.size() < 6) return run;
+  const double coarse_reach = icp.initial_max_distance_mm > 0 ? icp.initial_max_distance_mm
+                                                              : std::max(3.0 * icp.expected_error_mm, 10.0);
+  // One view of the CAD for both passes: the pose changes by at most the expected error (~10 deg) in between,
+  // less than the culling test's slack, and the crop margin covers the coarse pass's largest distance.
+  const TargetView view =
+      view_of(target, scan, start, cull, params.icp.source_viewpoint, std::max(coarse_reach, final_d) + 1.0);
+  if (view.cloud.size() < 3) return run;
+  // The coarse pass hands over a pose well inside the fine pass's first distance; the fine pass (with the
+  // exclusion zone at the refined pose) takes it down to the final distance.
+  IcpParams coarse_icp = icp;
+  coarse_icp.final_max_distance_mm = std::max(3.0 * final_d, 4.0);
+  coarse_icp.coarse_distance_mm = 4.0 * final_d;
   const RegistrationResult coarse =
-      align_point_to_plane(scan.points, target.rigid, *target.rigid_tree, start, icp, keep, progress);
-
-  keep = points_away_from_cables(scan.points, coarse.source_to_target, target, 0.0);
+      align_point_to_plane(scan, view.cloud, *view.tree, start, coarse_icp, keep, progress);
+  keep = points_away_from_cables(scan, coarse.source_to_target, target, 0.0);
   if (keep.size() < 6) return run;
   IcpParams fine = icp;
-  fine.initial_max_distance_mm = std::max(3.0 * final_d, 4.0);
-  run.reg = align_point_to_plane(scan.points, target.rigid, *target.rigid_tree, coarse.source_to_target, fine, keep);
+  fine.initial_max_distance_mm = coarse_icp.final_max_distance_mm;
+  run.reg = align_point_to_plane(scan, view.cloud, *view.tree, coarse.source_to_target, fine, keep);
   run.reg.iterations += coarse.iterations;
   run.excluded = scan.size() - keep.size();
   return run;
 }
 
-}  // namespace
-
-ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
-                                     const std::optional<Pose>& initial_scan_to_cad, const ScanToCadParams& params,
-                                     const ProgressFn& progress) {
-  if (scan.empty()) throw InputError("", "registration: the scan has no points");
-  if (!target.rigid_tree || target.rigid.empty()) throw InputError("", "registration: empty CAD target");
+ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, std::size_t full_size,
+                                   const CadTarget& target, const std::optional<Pose>& initial_scan_to_cad,
+                                   const ScanToCadParams& params, const ProgressFn& progress) {
   ScanToCadResult res;
   bool have = false;
   auto consider = [&](const Run& r, bool global) {
@@ -62,20 +120,23 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
       have = true;
     }
   };
-  if (initial_scan_to_cad) consider(refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress), false);
+  if (initial_scan_to_cad)
+    consider(refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress), false);
   const bool ok = have && res.registration.fitness >= params.min_fitness;
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
-    const GlobalRegistrationResult g = register_global(scan, target.rigid, params.global, progress);
+    Cloud source;
+    source.points = scan;
+    const GlobalRegistrationResult g = register_global(source, target.rigid, params.global, progress);
     // Symmetric parts of a scene (a plate, rows of blocks) give near-ties at the coarse scale: re-rank all the
     // candidates by their fitness on the full-resolution target at a tighter distance, then the full ICP of the
     // first few decides.
     std::vector<std::uint32_t> probe;
-    const std::size_t stride = std::max<std::size_t>(1, scan.size() / 8000);
+    const std::size_t stride = std::max<std::size_t>(1, scan.size() / std::max<std::size_t>(params.rank_probe_points, 1));
     for (std::size_t i = 0; i < scan.size(); i += stride) probe.push_back(static_cast<std::uint32_t>(i));
     const double tight = std::max(0.4 * g.voxel_mm, 3.0);
     std::vector<std::pair<double, std::size_t>> ranked;
     for (std::size_t i = 0; i < g.candidates.size(); ++i)
-      ranked.emplace_back(evaluate_registration(scan.points, target.rigid, *target.rigid_tree,
+      ranked.emplace_back(evaluate_registration(scan, target.rigid, *target.rigid_tree,
                                                 g.candidates[i].source_to_target, tight, probe)
                               .fitness,
                           i);
@@ -87,14 +148,29 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
                true);
   }
   res.valid = have && res.registration.fitness >= params.min_fitness;
+  // The count of left-out points is reported for the whole scan (the subsample is an even spread of it).
+  if (!scan.empty())
+    res.excluded_near_cables = static_cast<std::size_t>(std::llround(
+        static_cast<double>(res.excluded_near_cables) * static_cast<double>(full_size) / static_cast<double>(scan.size())));
   if (!res.valid && params.icp.use_source_viewpoint) {
     // The scan may not be in its sensor's frame after all: retry once without visibility culling.
     ScanToCadParams plain = params;
     plain.icp.use_source_viewpoint = false;
-    ScanToCadResult retry = register_scan_to_cad(scan, target, initial_scan_to_cad, plain, progress);
+    ScanToCadResult retry = register_subsample(scan, full_size, target, initial_scan_to_cad, plain, progress);
     if (retry.registration.fitness > res.registration.fitness) res = retry;
   }
   return res;
+}
+
+}  // namespace
+
+ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
+                                     const std::optional<Pose>& initial_scan_to_cad, const ScanToCadParams& params,
+                                     const ProgressFn& progress) {
+  if (scan.empty()) throw InputError("", "registration: the scan has no points");
+  if (!target.rigid_tree || target.rigid.empty()) throw InputError("", "registration: empty CAD target");
+  const std::vector<Eigen::Vector3f> sub = spread_subsample(scan.points, params.max_scan_points);
+  return register_subsample(sub, scan.size(), target, initial_scan_to_cad, params, progress);
 }
 
 }  // namespace ewis

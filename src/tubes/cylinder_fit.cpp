@@ -28,16 +28,22 @@ double robust_sigma(const std::vector<double>& r, double floor) {
   return std::max(1.4826 * median_of(tmp), floor);
 }
 
+// The median and the robust sigma of `r` together, `tmp` a reusable buffer (no allocation per round).
+void median_and_sigma(const std::vector<double>& r, double floor, std::vector<double>& tmp, double& med, double& sigma) {
+  tmp.assign(r.begin(), r.end());
+  med = median_of(tmp);
+  for (double& x : tmp) x = std::abs(x - med);
+  sigma = std::max(1.4826 * median_of(tmp), floor);
+}
+
 // Angular extent of the points around the axis (angles in [0, 2 pi)): 10-degree sectors holding a fair
 // share of the points. Robust to the few outliers that pass the trimming on the far side of the axis.
-double arc_extent_deg(const std::vector<double>& ang) {
-  if (ang.size() < 2) return 0.0;
-  int bins[36] = {0};
-  for (double a : ang) bins[std::clamp(static_cast<int>(a / (2 * M_PI) * 36.0), 0, 35)]++;
+double arc_extent_deg(const int (&bins)[36]) {
   const int peak = *std::max_element(bins, bins + 36);
+  if (peak == 0) return 0.0;
   const int need = std::max(2, peak / 5);
   int occupied = 0;
-  for (int b : bins) occupied += b >= need;
+  for (int i = 0; i < 36; ++i) occupied += bins[i] >= need;
   return occupied * 10.0;
 }
 
@@ -45,21 +51,15 @@ double arc_extent_deg(const std::vector<double>& ang) {
 // (flying pixels, noise inside the tube) that would let the axis slide and the radius shrink on a partial
 // arc (DESIGN.md "Measurement lessons"). With the sensor position: back-facing points go; without it: points
 // more than ~100 deg from the mean direction of the seen arc go (nothing when the arc is nearly closed, as
-// in scans from all sides). Returns the inlier count.
-int drop_far_side(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
+// in scans from all sides). `radial` holds each point's unit direction from the axis. Returns the inlier count.
+int drop_far_side(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& radial,
                   const CylinderFitParams& params, std::vector<char>& inl) {
   const std::size_t n = points.size();
-  auto radial = [&](std::size_t i) {
-    const Eigen::Vector3d q = points[i] - c;
-    const Eigen::Vector3d rq = q - u * u.dot(q);
-    const double len = rq.norm();
-    return len > 1e-12 ? Eigen::Vector3d(rq / len) : Eigen::Vector3d::Zero();
-  };
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   int count = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (inl[i]) {
-      mean += radial(i);
+      mean += radial[i];
       ++count;
     }
   if (count == 0) return 0;
@@ -69,10 +69,9 @@ int drop_far_side(const std::vector<Eigen::Vector3d>& points, const Eigen::Vecto
   count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!inl[i]) continue;
-    const Eigen::Vector3d rd = radial(i);
     if (params.use_sensor) {
-      if (rd.dot(params.sensor - points[i]) < 0) inl[i] = 0;
-    } else if (by_mean && rd.dot(m) < -0.2) {
+      if (radial[i].dot(params.sensor - points[i]) < 0) inl[i] = 0;
+    } else if (by_mean && radial[i].dot(m) < -0.2) {
       inl[i] = 0;
     }
     count += inl[i];
@@ -80,40 +79,37 @@ int drop_far_side(const std::vector<Eigen::Vector3d>& points, const Eigen::Vecto
   return count;
 }
 
-}  // namespace
-
-CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& point,
-                               const Eigen::Vector3d& axis, double radius_mm, const CylinderFitParams& params) {
-  CylinderFitResult res;
+// Residuals (distance to the surface) and unit radial directions of all points for the cylinder (c, u, rho).
+void residuals(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& c, const Eigen::Vector3d& u,
+               double rho, std::vector<double>& resid, std::vector<Eigen::Vector3d>& radial) {
   const std::size_t n = points.size();
-  if (n < 6 || !(radius_mm > 0) || !(axis.norm() > 0)) return res;
-  Eigen::Vector3d c = point;
-  Eigen::Vector3d u = axis.normalized();
-  const Eigen::Vector3d u0 = u;
-  double rho = radius_mm;
+  resid.resize(n);
+  radial.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d q = points[i] - c;
+    const Eigen::Vector3d rq = q - u * u.dot(q);
+    const double len = rq.norm();
+    resid[i] = len - rho;
+    radial[i] = len > 1e-12 ? Eigen::Vector3d(rq / len) : Eigen::Vector3d::Zero();
+  }
+}
+
+// The trimmed Gauss-Newton rounds on `points`; updates (c, u, rho). False when the fit breaks down.
+bool gauss_newton_rounds(const std::vector<Eigen::Vector3d>& points, const CylinderFitParams& params,
+                         Eigen::Vector3d& c, Eigen::Vector3d& u, double& rho) {
+  const std::size_t n = points.size();
   std::vector<char> inl(n, 1);
-  std::vector<double> resid(n);
+  std::vector<double> resid, tmp;
+  std::vector<Eigen::Vector3d> radial;
   const int np = params.fix_radius ? 4 : 5;
-
-  auto residuals = [&]() {
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d q = points[i] - c;
-      resid[i] = (q - u * u.dot(q)).norm() - rho;
-    }
-  };
-
   for (int round = 0; round < std::max(params.rounds, 1); ++round) {
     // trimming: inliers from the current model's residuals (paper's "empty space around cables")
-    residuals();
-    const double sigma = robust_sigma(resid, params.min_sigma_mm);
-    const double med = [&] { std::vector<double> t(resid); return median_of(t); }();
-    int count = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      inl[i] = std::abs(resid[i] - med) <= params.trim_sigmas * sigma;
-      count += inl[i];
-    }
-    count = drop_far_side(points, c, u, params, inl);
-    if (count < 6) return res;
+    residuals(points, c, u, rho, resid, radial);
+    double med = 0, sigma = 0;
+    median_and_sigma(resid, params.min_sigma_mm, tmp, med, sigma);
+    for (std::size_t i = 0; i < n; ++i) inl[i] = std::abs(resid[i] - med) <= params.trim_sigmas * sigma;
+    const int count = drop_far_side(points, radial, params, inl);
+    if (count < 6) return false;
     for (int it = 0; it < params.iterations; ++it) {
       // keep the axis point central along the axis: better conditioned tilt updates
       double zsum = 0;
@@ -128,48 +124,78 @@ CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const
         if (!inl[i]) continue;
         const Eigen::Vector3d q = points[i] - c;
         const double x = q.dot(e1), y = q.dot(e2), z = q.dot(u);
-        const double d = std::hypot(x, y);
+        const double d = std::sqrt(x * x + y * y);  // not std::hypot: a library call per point, 3x slower
         if (d < 1e-12) continue;
+        const double nx = x / d, ny = y / d;
         double s = 1.0;
         if (params.use_sensor) {
           // residual along the camera ray: surface distance / cos(angle between ray and normal)
           const Eigen::Vector3d v = (points[i] - params.sensor).normalized();
-          const Eigen::Vector3d nrm = (x * e1 + y * e2) / d;
-          s = 1.0 / std::max(std::abs(v.dot(nrm)), 0.3);
+          s = 1.0 / std::max(std::abs(v.dot(nx * e1 + ny * e2)), 0.3);
         }
         Eigen::Matrix<double, 5, 1> J;
-        J << -x / d, -y / d, -x * z / d, -y * z / d, -1.0;
-        J *= s;
+        J << -nx * s, -ny * s, -nx * z * s, -ny * z * s, -s;
         const double e = s * (d - rho);
-        A += J * J.transpose();
+        A.selfadjointView<Eigen::Lower>().rankUpdate(J);
         b -= J * e;
       }
+      A = A.selfadjointView<Eigen::Lower>();
       A.diagonal().array() += 1e-9 * (A.trace() + 1.0);
       Eigen::Matrix<double, 5, 1> delta = Eigen::Matrix<double, 5, 1>::Zero();
       delta.head(np) = A.topLeftCorner(np, np).ldlt().solve(b.head(np));
-      if (!delta.allFinite()) return res;
+      if (!delta.allFinite()) return false;
       c += delta[0] * e1 + delta[1] * e2;
       u = (u + delta[2] * e1 + delta[3] * e2).normalized();
       if (!params.fix_radius) rho += delta[4];
-      if (!(rho > 0) || rho > params.max_radius_mm) return res;
-      if (delta.head(4).norm() < 1e-7 && std::abs(delta[4]) < 1e-7) break;
+      if (!(rho > 0) || rho > params.max_radius_mm) return false;
+      // converged well below the noise (1e-6 mm, 1e-6 rad): further iterations change nothing measurable
+      if (delta.head(4).norm() < 1e-6 && std::abs(delta[4]) < 1e-6) break;
     }
   }
+  return true;
+}
+
+}  // namespace
+
+CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& point,
+                               const Eigen::Vector3d& axis, double radius_mm, const CylinderFitParams& params) {
+  CylinderFitResult res;
+  const std::size_t n = points.size();
+  if (n < 6 || !(radius_mm > 0) || !(axis.norm() > 0)) return res;
+  Eigen::Vector3d c = point;
+  Eigen::Vector3d u = axis.normalized();
+  const Eigen::Vector3d u0 = u;
+  double rho = radius_mm;
+  // dense data: the rounds on an evenly strided subset (a few hundred points fix five parameters far below
+  // the noise); the inliers and the quality below are still measured on all points
+  const std::size_t cap = params.max_points > 0 ? static_cast<std::size_t>(std::max(params.max_points, 32)) : n;
+  if (n > cap) {
+    const std::size_t stride = (n + cap - 1) / cap;
+    std::vector<Eigen::Vector3d> sub;
+    sub.reserve(n / stride + 1);
+    for (std::size_t i = 0; i < n; i += stride) sub.push_back(points[i]);
+    if (!gauss_newton_rounds(sub, params, c, u, rho)) return res;
+  } else if (!gauss_newton_rounds(points, params, c, u, rho)) {
+    return res;
+  }
   // final inliers and quality
-  residuals();
+  std::vector<double> resid;
+  std::vector<Eigen::Vector3d> radial;
+  residuals(points, c, u, rho, resid, radial);
   const double sigma = robust_sigma(resid, params.min_sigma_mm);
+  std::vector<char> inl(n);
+  for (std::size_t i = 0; i < n; ++i) inl[i] = std::abs(resid[i]) <= params.trim_sigmas * sigma;
+  drop_far_side(points, radial, params, inl);
   const Eigen::Matrix3d frame = rotation_from_z(u);
-  std::vector<double> ang;
+  int bins[36] = {0};
   double ss = 0;
   int count = 0;
-  for (std::size_t i = 0; i < n; ++i) inl[i] = std::abs(resid[i]) <= params.trim_sigmas * sigma;
-  drop_far_side(points, c, u, params, inl);
   for (std::size_t i = 0; i < n; ++i) {
     if (!inl[i]) continue;
     ++count;
     ss += resid[i] * resid[i];
-    const Eigen::Vector3d q = points[i] - c;
-    ang.push_back(std::atan2(q.dot(frame.col(1)), q.dot(frame.col(0))) + M_PI);
+    const double a = std::atan2(radial[i].dot(frame.col(1)), radial[i].dot(frame.col(0))) + M_PI;
+    bins[std::clamp(static_cast<int>(a / (2 * M_PI) * 36.0), 0, 35)]++;
   }
   if (count < 6) return res;
   if (u.dot(u0) < 0) u = -u;
@@ -179,7 +205,7 @@ CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const
   res.radius_mm = rho;
   res.rms_mm = std::sqrt(ss / count);
   res.inliers = count;
-  res.arc_deg = arc_extent_deg(ang);
+  res.arc_deg = count >= 2 ? arc_extent_deg(bins) : 0.0;
   res.inlier = std::move(inl);
   return res;
 }

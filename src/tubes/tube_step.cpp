@@ -21,9 +21,11 @@ void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Ei
             std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>* ids) {
   rel.clear();
   if (ids) ids->clear();
-  ctx.tree.radius(center.cast<float>(), static_cast<float>(radius), ctx.scratch);
-  // sorted by index: the result (and every fit on it) does not depend on distance ties
-  std::sort(ctx.scratch.begin(), ctx.scratch.end(), [](const Neighbor& a, const Neighbor& b) { return a.index < b.index; });
+  // the tree's visiting order is deterministic (it depends on the cloud only), so no sort is needed: sorting
+  // the ~10^3-10^4 points of every step's ball cost a fifth of the trace time
+  ctx.tree.radius_unsorted(center.cast<float>(), static_cast<float>(radius), ctx.scratch);
+  rel.reserve(ctx.scratch.size());
+  if (ids) ids->reserve(ctx.scratch.size());
   for (const Neighbor& nb : ctx.scratch) {
     if (!ctx.usable(nb.index)) continue;
     rel.push_back(ctx.cloud.points[nb.index].cast<double>() - origin);

@@ -137,7 +137,9 @@ TEST(Interference, AnalyticScene) {
   ASSERT_NE(bracket, nullptr);
   EXPECT_NEAR(bracket->min_distance_mm, 2.0, 0.05);  // from the CAD surface, though the flank is unseen
   EXPECT_GT(bracket->points.size(), 10u);
-  EXPECT_NEAR(bracket->center.x(), 30.0, 1.0);
+  // the supporting points are the bracket's seen points around the closest spot, inside its extent
+  EXPECT_GT(bracket->center.x(), 20.0);
+  EXPECT_LT(bracket->center.x(), 40.0);
   const Interference* cb = find_with(found, std::string("cable_B"));
   ASSERT_NE(cb, nullptr);
   EXPECT_NEAR(cb->min_distance_mm, 3.0, 1e-6);

@@ -5,7 +5,11 @@
 // small clusters are dropped, and each kept one is reported with the true surface-to-surface gap:
 //  - label: another measured cable when the point is one of its points or within label_tolerance_mm of its
 //    fitted surface; else the rigid CAD element whose registered surface is within label_tolerance_mm
-//    (the nearer one wins); else nothing: a foreign object (`with` null);
+//    (the nearer one wins); else nothing: a foreign object (`with` null); only foreign points are clustered:
+//    rigid elements and other cables are checked on their models (below);
+//  - a rigid element is an interference when its registered CAD surface comes closer than clearance_mm to
+//    the measured chain and the scan shows the element there (support_radius_mm);
+//  - foreign clusters that are veils of mixed pixels (see veil_cos_max) are dropped;
 //  - the cable's own CAD element and the elements of its `attached` list are never interferences;
 //  - P points within own_surface_band_mm of the cable's own fitted surface are its own points that the trace
 //    did not claim (mixed pixels on its silhouette), and points whose nearest chain point is past the chain's
@@ -58,6 +62,10 @@ struct InterferenceParams {
   double label_tolerance_mm = 2.5;      // registration + noise: a point this near a surface lies on it
   double own_surface_band_mm = 1.0;
   double surface_step_mm = 0.25;        // sampling step along the axis for the gap to CAD triangles
+  // A rigid element closer than the clearance (CAD surface to chain) is reported only when the scan shows it
+  // there: at least the minimum cluster size of points on its surface within max(support_radius_mm,
+  // 2 r + clearance) of the closest spot.
+  double support_radius_mm = 10.0;
   // Mixed pixels (a depth between a cable's silhouette and the background, on the silhouette's rays): with
   // the sensor position known, a point whose camera ray passes a measured cable's fitted surface closer than
   // ray_graze_mm (<= 0: the resolution, about a pixel's footprint) and markedly closer (ray_graze_margin_mm)
@@ -76,6 +84,15 @@ struct InterferenceParams {
   // cable's registered CAD surface is that cable's (a stretch its trace did not cover, e.g. where it crosses
   // over this one): not a foreign object. Cables stray from their CAD, hence the wider tolerance.
   double cable_cad_tolerance_mm = 6.0;
+  // Veils: mixed pixels along a depth edge (between two parallel cables, a cable and the plate behind it) lie
+  // on the rays of the edge's pixels, so they form a curtain that contains the viewing rays. A surface the
+  // sensor really sees faces it (and one seen at a grazing angle is sampled too sparsely to form a cluster). With
+  // the sensor known, a foreign cluster whose points mostly (veil_fraction) have a local normal (PCA over
+  // veil_radius_mm, at least 4 x resolution) within acos(veil_cos_max) of perpendicular to their ray is a veil,
+  // not an object.
+  double veil_cos_max = 0.25;
+  double veil_fraction = 0.6;
+  double veil_radius_mm = 2.0;
 };
 
 struct Interference {

@@ -3,6 +3,7 @@
 // the interference check measures gaps to the registered CAD surface of rigid elements (DESIGN.md
 // "Measurement lessons": the sensor never sees the flanks that face each other, so point-based gaps read wide).
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -26,6 +27,9 @@ class SurfaceIndex {
   SurfaceIndex(const Scene& scene, const std::vector<int>& elements);
 
   bool empty() const { return nodes_.empty(); }
+  // The scene elements indexed (as given, valid ones only, increasing).
+  const std::vector<int>& elements() const { return elements_; }
+  bool contains(int element) const { return std::binary_search(elements_.begin(), elements_.end(), element); }
   // Closest surface point within max_distance_mm (exact point-to-triangle distance). Thread-safe.
   SurfacePoint closest(const Eigen::Vector3d& p, double max_distance_mm = std::numeric_limits<double>::infinity()) const;
   // Least distance from the segment [a, b] to the surface, sampled every step_mm along the segment and refined
@@ -42,6 +46,7 @@ class SurfaceIndex {
   const Scene* scene_ = nullptr;
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;  // triangle indices
+  std::vector<int> elements_;
   std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Eigen::Vector3f>& centroids, int depth);
 };
 

@@ -34,8 +34,10 @@ struct IcpParams {
   // Levenberg-Marquardt damping (relative to diag(H)); retried up to lm_max_tries times per iteration.
   double lm_initial_lambda = 1e-4;
   int lm_max_tries = 10;
-  // Coarse stages (max distance > 4 x final) use at most this many source points (evenly strided); 0: all.
+  // Coarse stages (max distance > coarse_distance_mm, or > 4 x final when that is <= 0) use at most this many
+  // source points (evenly strided); 0: all.
   std::size_t coarse_max_points = 20000;
+  double coarse_distance_mm = 0.0;
   // The other stages use at most this many (evenly strided; 0: all): a pose has 6 unknowns, 10^5 points pin it
   // far below the noise. Fitness and rmse are still measured over every source point.
   std::size_t max_points = 100000;

@@ -16,6 +16,9 @@ struct CylinderFitParams {
   double max_radius_mm = 1e9;      // the fit fails when the radius leaves (0, max_radius_mm]
   bool fix_radius = false;         // keep the initial radius (fit the axis only)
   bool use_sensor = false;         // residuals along the ray from `sensor` to each point
+  // > 0: the Gauss-Newton rounds run on an evenly strided subset of at most this many points (the final
+  // inliers, rms and arc still use all points); the fit's cost no longer grows with the scan's density
+  int max_points = 0;
   Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
 };
 
