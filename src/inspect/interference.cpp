@@ -116,8 +116,9 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       candidates.push_back(n.index);
     }
   }
+  // (No early return when there are no candidates: a cable touching a bracket hides the bracket's points under
+  // it, and the checks on the models below need none.)
   std::sort(candidates.begin(), candidates.end());
-  if (candidates.empty()) return out;
 
   // 2. Labels.
   std::vector<Label> labels(candidates.size());
@@ -198,19 +199,34 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       }
     }
     if (!(gap < params.clearance_mm)) continue;
-    // Support: scan points (not the cable's own) on this element's surface near the closest spot.
+    // Support: scan points (not the cable's own) on this element's registered surface. The flank that faces
+    // the cable is seen by no sensor, and a cable lying on a bracket hides the bracket around the contact, so
+    // the points are looked for over the whole element; those nearest the closest spot are the entry's points.
     const double support_radius = std::max(params.support_radius_mm, 2.0 * r + params.clearance_mm);
-    tree.radius_unsorted(f.closest_on_other.cast<float>(), float(support_radius), nb);
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    const Eigen::Vector3d el_centre = 0.5 * (el.bounds_min + el.bounds_max);
+    const double el_reach = (f.closest_on_other - el_centre).norm() + 0.5 * (el.bounds_max - el.bounds_min).norm() +
+                            params.label_tolerance_mm;
+    tree.radius_unsorted(f.closest_on_other.cast<float>(), float(el_reach), nb);
+    std::vector<std::pair<double, std::uint32_t>> on_surface;
     for (const Neighbor& n : nb) {
       if (contains_sorted(me.points, n.index)) continue;
       const Eigen::Vector3d p = cloud.points[n.index].cast<double>();
+      if (((p - params.label_tolerance_mm * Eigen::Vector3d::Ones()).array() > el.bounds_max.array()).any() ||
+          ((p + params.label_tolerance_mm * Eigen::Vector3d::Ones()).array() < el.bounds_min.array()).any())
+        continue;
       const SurfacePoint s = element_surface.closest(p, params.label_tolerance_mm);
       if (!s.found()) continue;
-      f.points.push_back(n.index);
-      sum += p;
+      on_surface.emplace_back((p - f.closest_on_other).norm(), n.index);
     }
-    if (f.points.size() < min_size) continue;
+    if (on_surface.size() < min_size) continue;
+    std::sort(on_surface.begin(), on_surface.end());
+    const double keep_within = std::max(support_radius, on_surface[min_size - 1].first + 0.5 * support_radius);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& [dist, index] : on_surface) {
+      if (dist > keep_within) break;
+      f.points.push_back(index);
+      sum += cloud.points[index].cast<double>();
+    }
     std::sort(f.points.begin(), f.points.end());
     f.center = sum / double(f.points.size());
     f.with = el.name;
