@@ -9,6 +9,7 @@
 #include "ewis/core/parallel.hpp"
 #include "ewis/filter/resolution.hpp"
 #include "ewis/inspect/chain_distance.hpp"
+#include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/sample/mesh_sampling.hpp"
@@ -267,6 +268,12 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const C
     std::size_t best_run = 0;
     for (std::size_t k = 0; k < ci.runs.size(); ++k) {
       BendRadiusResult b = measure_bend_radius(ci.runs[k].centerline, ci.nominal_diameter_mm, params.bend);
+      // Tight bends again, on the run's surface points (a short arc is a corner to any centreline window).
+      std::vector<Eigen::Vector3d> surface;
+      surface.reserve(ci.runs[k].points.size());
+      for (std::uint32_t i : ci.runs[k].points) surface.push_back(cloud.points[i].cast<double>());
+      refine_bends_with_fillets(b, ci.runs[k].centerline, surface, ci.runs[k].radius_mm, ci.nominal_diameter_mm,
+                                params.fillet);
       const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
       if (better) {
         ci.bend = std::move(b);

@@ -25,7 +25,7 @@ struct Synthetic {
   Pose camera_to_cad;
 };
 
-Synthetic make_synthetic() {
+Synthetic make_synthetic(double arc_radius_mm = 60.0, double arc_deg = 90.0) {
   Synthetic s;
   const double r = 4.0, z = 30.0;
   test::Turtle t;
@@ -33,7 +33,7 @@ Synthetic make_synthetic() {
   t.points = {t.pos};
   t.step = 1.0;
   t.straight(120);
-  t.arc(60, 90, Eigen::Vector3d::UnitY());
+  t.arc(arc_radius_mm, arc_deg, Eigen::Vector3d::UnitY());
   t.straight(100);
   const auto& cl = t.points;
   const Mesh tube = make_tube(cl, r, 32);
@@ -145,6 +145,23 @@ TEST(Pipeline, SyntheticSceneMeasures) {
   EXPECT_GE(e["interferences"][0]["points"].get<int>(), 1);
   EXPECT_FALSE(e["segments"].empty());
   EXPECT_EQ(j["elements"][1]["kind"], "rigid");
+}
+
+// A short tight bend: 20 deg at R 20 mm on a d 8 cable (an arc of 7 mm, under one diameter). Circle windows
+// along the centreline take in the straight runs and read it far too high; the fillet fit on the surface points
+// measures it.
+TEST(Pipeline, ShortTightBendFromTheSurface) {
+  const Synthetic s = make_synthetic(20.0, 20.0);
+  InspectParams p = fast_params();
+  const InspectionResult r = inspect(s.scene, s.plan, s.scan, s.camera_to_cad, p);
+  ASSERT_TRUE(r.cables[0].found);
+  ASSERT_TRUE(r.cables[0].min_bend_radius_mm);
+  EXPECT_NEAR(*r.cables[0].min_bend_radius_mm / 20.0, 1.0, 0.08);
+  EXPECT_FALSE(r.cables[0].bend_ok.value_or(true));  // allowed 40
+  p.fillet.enabled = false;
+  const InspectionResult circles = inspect(s.scene, s.plan, s.scan, s.camera_to_cad, p);
+  ASSERT_TRUE(circles.cables[0].min_bend_radius_mm);
+  EXPECT_GT(*circles.cables[0].min_bend_radius_mm / 20.0, 1.15);
 }
 
 TEST(Pipeline, InnerReferenceAndMissingCable) {

@@ -13,6 +13,7 @@
 #include "ewis/core/progress.hpp"
 #include "ewis/filter/outlier_removal.hpp"
 #include "ewis/inspect/bend_radius.hpp"
+#include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/interference.hpp"
 #include "ewis/io/plan_file.hpp"
 #include "ewis/register/cad_target.hpp"
@@ -37,6 +38,7 @@ struct InspectParams {
   double covered_radii = 3.0;
   double covered_min_mm = 15.0;
   BendRadiusParams bend;
+  FilletRefineParams fillet;            // tight bends re-measured on the surface points
   PaperBendParams paper_bend;
   InterferenceParams interference;      // clearance_mm and resolution_mm are set per cable / scan
   // Attached elements end the measured run (CONTRACT): the trace stops where its centreline enters an

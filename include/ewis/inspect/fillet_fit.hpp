@@ -1,0 +1,74 @@
+#pragma once
+// Bend radius from the cable's SURFACE points with a line-arc-line (fillet) model: two straight legs joined by a
+// circular arc tangent to both, the shape of a routed cable bend (and of most CAD routes), swept by the tube
+// radius. Why (paper 4.3.1, DESIGN "Measurement lessons"): circle fits to a centreline need an arc several
+// diameters long; a short tight bend (tens of degrees at a few diameters: an arc shorter than one diameter) is
+// a corner to any window and to the chain itself, and its radius reads high. Its radius shows only in how far
+// the surface leaves the two legs' corner (R (1 / cos(turn / 2) - 1), a fraction of a mm), which hundreds of
+// surface points measure and a dozen noisy chain joints do not.
+#include <Eigen/Core>
+#include <vector>
+
+namespace ewis {
+
+struct FilletModel {
+  Eigen::Vector3d vertex = Eigen::Vector3d::Zero();  // where the two legs' lines meet
+  Eigen::Vector3d leg1 = Eigen::Vector3d::UnitX();   // unit, from the vertex back along the incoming leg
+  Eigen::Vector3d leg2 = -Eigen::Vector3d::UnitY();  // unit, from the vertex along the outgoing leg
+  double bend_radius_mm = 1.0;                       // of the arc (centreline)
+  double tube_radius_mm = 1.0;
+  double turn_rad() const;                           // direction change over the arc (pi - angle between legs)
+};
+
+// Distance from p to the model's centreline (legs as half-lines from the arc's tangent points).
+double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p);
+
+struct FilletFitParams {
+  int max_iterations = 40;
+  std::size_t max_points = 4000;      // evenly strided subset used by the fit (0: all)
+  double min_noise_mm = 0.05;         // floor of the robust residual scale
+  double kernel_factor = 2.5;         // Cauchy scale = kernel_factor x robust sigma of the residuals
+  bool fit_tube_radius = true;
+};
+
+struct FilletFit {
+  bool ok = false;                    // converged to a bend (turn > 0, finite radius)
+  FilletModel model;
+  double rms_mm = 0.0;                // robust (Cauchy-weighted) RMS of the surface residuals
+  double sigma_mm = 0.0;              // robust sigma (1.4826 MAD) of the residuals
+  double bend_radius_se_mm = 0.0;     // standard error of the bend radius (Gauss-Newton covariance)
+  int iterations = 0;
+  std::size_t points = 0;
+};
+
+// Least-squares fit (Levenberg-Marquardt, Cauchy-weighted) of the swept fillet to surface points, from `initial`.
+// Deterministic.
+FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
+                     const FilletFitParams& params = {});
+
+}  // namespace ewis
+
+#include "ewis/inspect/bend_radius.hpp"
+
+namespace ewis {
+
+struct FilletRefineParams {
+  bool enabled = true;
+  int max_candidates = 8;             // bends re-measured per run (the tightest windows of the circle profile)
+  double leg_diameters = 2.0;         // each window reaches this far beyond the circle window's half-length ...
+  double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
+  double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
+  double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error)
+  double tube_radius_tolerance = 0.25;  // the fitted tube radius within this fraction of the measured one
+  FilletFitParams fit;
+};
+
+// Re-measures the tightest bends of `bend` (measure_bend_radius on `centerline`) with fillet fits to the cable's
+// surface points, and replaces its minimum when a fit says the bend is tighter or looser than the circle
+// windows did. `surface_points`: the cable's measured points (the set S of paper 4.3.2), same frame.
+// Returns the number of bends re-measured. Deterministic.
+int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::Vector3d>& centerline,
+                              const std::vector<Eigen::Vector3d>& surface_points, double tube_radius_mm,
+                              double diameter_mm, const FilletRefineParams& params = {});
+
+}  // namespace ewis

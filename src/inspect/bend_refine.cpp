@@ -1,0 +1,169 @@
+// Tight bends re-measured on the surface points with the line-arc-line model (see fillet_fit.hpp).
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+#include "ewis/core/parallel.hpp"
+#include "ewis/inspect/fillet_fit.hpp"
+
+namespace ewis {
+namespace {
+
+struct Line {
+  bool ok = false;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero(), direction = Eigen::Vector3d::UnitX();
+};
+
+// Least-squares line (PCA) through the centreline samples with arc length in [a, b].
+Line fit_line(const std::vector<Eigen::Vector3d>& c, const std::vector<double>& arc, double a, double b) {
+  Line l;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (arc[i] >= a && arc[i] <= b) mean += c[i], ++n;
+  if (n < 2) return l;
+  mean /= double(n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < c.size(); ++i)
+    if (arc[i] >= a && arc[i] <= b) cov += (c[i] - mean) * (c[i] - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  l.point = mean;
+  l.direction = es.eigenvectors().col(2).normalized();
+  l.ok = es.eigenvalues()(2) > 0;
+  return l;
+}
+
+Eigen::Vector3d at_arc(const std::vector<Eigen::Vector3d>& c, const std::vector<double>& arc, double s) {
+  const auto it = std::lower_bound(arc.begin(), arc.end(), s);
+  if (it == arc.begin()) return c.front();
+  if (it == arc.end()) return c.back();
+  const std::size_t i = std::size_t(it - arc.begin());
+  const double len = arc[i] - arc[i - 1];
+  const double t = len > 0 ? (s - arc[i - 1]) / len : 0.0;
+  return c[i - 1] + t * (c[i] - c[i - 1]);
+}
+
+struct Candidate {
+  std::size_t profile = 0;
+  double half_window_mm = 0.0;
+};
+
+}  // namespace
+
+int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::Vector3d>& centerline,
+                              const std::vector<Eigen::Vector3d>& surface_points, double tube_radius_mm,
+                              double diameter_mm, const FilletRefineParams& params) {
+  if (!params.enabled || bend.profile.empty() || centerline.size() < 3 || surface_points.empty() ||
+      !(tube_radius_mm > 0) || !(diameter_mm > 0))
+    return 0;
+  std::vector<double> arc(centerline.size(), 0.0);
+  for (std::size_t i = 1; i < centerline.size(); ++i) arc[i] = arc[i - 1] + (centerline[i] - centerline[i - 1]).norm();
+  const double total = arc.back();
+
+  // Candidates: the tightest circle windows, one per bend (a later one must lie outside the earlier ones' windows).
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < bend.profile.size(); ++i)
+    if (std::isfinite(bend.profile[i].radius_mm)) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return bend.profile[a].radius_mm < bend.profile[b].radius_mm; });
+  std::vector<Candidate> cands;
+  for (std::size_t i : order) {
+    if (int(cands.size()) >= params.max_candidates) break;
+    const BendSample& p = bend.profile[i];
+    const double half = std::max(0.5 * (p.window_end_mm - p.window_start_mm) + params.leg_diameters * diameter_mm,
+                                 params.min_half_window_diameters * diameter_mm);
+    bool taken = false;
+    for (const Candidate& c : cands) {
+      const BendSample& q = bend.profile[c.profile];
+      if (std::abs(q.arc_mm - p.arc_mm) < 0.5 * (q.window_end_mm - q.window_start_mm) + diameter_mm) taken = true;
+    }
+    if (!taken) cands.push_back({i, half});
+  }
+
+  struct Outcome {
+    bool ok = false;
+    FilletFit fit;
+  };
+  std::vector<Outcome> outcomes(cands.size());
+  parallel_for_each_index(cands.size(), [&](std::size_t k) {
+    const BendSample& p = bend.profile[cands[k].profile];
+    const double s0 = std::max(0.0, p.arc_mm - cands[k].half_window_mm);
+    const double s1 = std::min(total, p.arc_mm + cands[k].half_window_mm);
+    // Legs from the centreline's outer thirds; the vertex where their lines pass closest.
+    const double third = (s1 - s0) / 3.0;
+    const Line l1 = fit_line(centerline, arc, s0, s0 + third), l2 = fit_line(centerline, arc, s1 - third, s1);
+    if (!l1.ok || !l2.ok) return;
+    const Eigen::Vector3d d1 = l1.direction, d2 = l2.direction;
+    const Eigen::Vector3d w0 = l1.point - l2.point;
+    const double b = d1.dot(d2), den = 1.0 - b * b;
+    if (den < 1e-6) return;  // parallel legs: no corner to fit
+    const double t1 = (b * d2.dot(w0) - d1.dot(w0)) / den, t2 = (d2.dot(w0) - b * d1.dot(w0)) / den;
+    const Eigen::Vector3d q1 = l1.point + t1 * d1, q2 = l2.point + t2 * d2;
+    FilletModel init;
+    init.vertex = 0.5 * (q1 + q2);
+    const Eigen::Vector3d centre = at_arc(centerline, arc, p.arc_mm);
+    if ((init.vertex - centre).norm() > cands[k].half_window_mm) return;
+    init.leg1 = (at_arc(centerline, arc, s0) - init.vertex).normalized();
+    init.leg2 = (at_arc(centerline, arc, s1) - init.vertex).normalized();
+    if (!init.leg1.allFinite() || !init.leg2.allFinite() || init.turn_rad() < 1e-3) return;
+    init.bend_radius_mm = std::clamp(p.radius_mm, 0.5 * diameter_mm, 50.0 * diameter_mm);
+    init.tube_radius_mm = tube_radius_mm;
+    // The window's surface points: nearest (among the centreline samples around it) to a sample inside it.
+    const double reach = cands[k].half_window_mm + tube_radius_mm + 2.0;
+    std::size_t i0 = std::size_t(std::lower_bound(arc.begin(), arc.end(), s0 - diameter_mm) - arc.begin());
+    std::size_t i1 = std::size_t(std::upper_bound(arc.begin(), arc.end(), s1 + diameter_mm) - arc.begin());
+    std::vector<Eigen::Vector3d> pts;
+    for (const Eigen::Vector3d& x : surface_points) {
+      if ((x - centre).squaredNorm() > reach * reach) continue;
+      double best = 1e300;
+      std::size_t at = i0;
+      for (std::size_t i = i0; i < i1; ++i) {
+        const double d = (x - centerline[i]).squaredNorm();
+        if (d < best) best = d, at = i;
+      }
+      if (arc[at] < s0 || arc[at] > s1) continue;
+      if (best > (tube_radius_mm + 2.0) * (tube_radius_mm + 2.0)) continue;
+      pts.push_back(x);
+    }
+    Outcome& o = outcomes[k];
+    o.fit = fit_fillet(pts, init, params.fit);
+    const FilletFit& f = o.fit;
+    o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg &&
+           f.bend_radius_se_mm <= params.max_se_fraction * f.model.bend_radius_mm &&
+           std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
+           (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
+           f.model.bend_radius_mm <= 100.0 * diameter_mm;
+  }, 1);
+
+  // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on radius + 2 se.
+  int refined = 0;
+  double best_score = std::numeric_limits<double>::infinity();
+  std::optional<double> best_radius;
+  Eigen::Vector3d best_location = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < cands.size(); ++k) {
+    const BendSample& p = bend.profile[cands[k].profile];
+    double r = p.radius_mm, se = p.radius_se_mm;
+    Eigen::Vector3d where = p.point;
+    if (outcomes[k].ok) {
+      ++refined;
+      const FilletModel& m = outcomes[k].fit.model;
+      r = m.bend_radius_mm;
+      se = outcomes[k].fit.bend_radius_se_mm;
+      const Eigen::Vector3d bis = (m.leg1 + m.leg2).normalized();
+      const double half = 0.5 * m.turn_rad();
+      where = m.vertex + bis * (r / std::cos(half) - r);  // the arc's middle
+    }
+    if (r + 2.0 * se < best_score) {
+      best_score = r + 2.0 * se;
+      best_radius = r;
+      best_location = where;
+    }
+  }
+  if (refined > 0 && best_radius) {
+    bend.min_radius_mm = best_radius;
+    bend.location = best_location;
+  }
+  return refined;
+}
+
+}  // namespace ewis

@@ -1,0 +1,213 @@
+// Line-arc-line (fillet) fit to a bent tube's surface points (see fillet_fit.hpp).
+#include "ewis/inspect/fillet_fit.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ewis {
+namespace {
+
+constexpr int kParams = 9;  // vertex (3), leg1 tangent (2), leg2 tangent (2), log bend radius, tube radius
+using Vec = Eigen::Matrix<double, kParams, 1>;
+using Mat = Eigen::Matrix<double, kParams, kParams>;
+
+double cauchy_weight(double r, double c) { return 1.0 / (1.0 + (r / c) * (r / c)); }
+double cauchy_rho(double r, double c) { return 0.5 * c * c * std::log1p((r / c) * (r / c)); }
+
+// Two unit vectors perpendicular to u (a tangent basis for a direction's update).
+void tangent_basis(const Eigen::Vector3d& u, Eigen::Vector3d& e1, Eigen::Vector3d& e2) {
+  e1 = u.unitOrthogonal();
+  e2 = u.cross(e1);
+}
+
+// The model moved by x (relative to `base`, in the local parameterisation).
+FilletModel apply(const FilletModel& base, const Vec& x) {
+  FilletModel m = base;
+  Eigen::Vector3d a1, a2, b1, b2;
+  tangent_basis(base.leg1, a1, a2);
+  tangent_basis(base.leg2, b1, b2);
+  m.vertex = base.vertex + x.head<3>();
+  m.leg1 = (base.leg1 + x[3] * a1 + x[4] * a2).normalized();
+  m.leg2 = (base.leg2 + x[5] * b1 + x[6] * b2).normalized();
+  m.bend_radius_mm = base.bend_radius_mm * std::exp(std::clamp(x[7], -3.0, 3.0));
+  m.tube_radius_mm = base.tube_radius_mm + x[8];
+  return m;
+}
+
+double median_of(std::vector<double>& v) {
+  if (v.empty()) return 0.0;
+  const std::size_t mid = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + mid, v.end());
+  return v[mid];
+}
+
+}  // namespace
+
+double FilletModel::turn_rad() const {
+  return M_PI - std::acos(std::clamp(leg1.dot(leg2), -1.0, 1.0));
+}
+
+double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p) {
+  const double turn = m.turn_rad();
+  const double R = m.bend_radius_mm;
+  const double half = 0.5 * turn;
+  const double tangent_len = R * std::tan(half);
+  const Eigen::Vector3d t1 = m.vertex + tangent_len * m.leg1;
+  const Eigen::Vector3d t2 = m.vertex + tangent_len * m.leg2;
+  auto half_line = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& dir) {
+    const double s = std::max(0.0, (p - start).dot(dir));
+    return (p - start - s * dir).norm();
+  };
+  double best = std::min(half_line(t1, m.leg1), half_line(t2, m.leg2));
+  const Eigen::Vector3d bis = m.leg1 + m.leg2;
+  const Eigen::Vector3d normal = m.leg1.cross(m.leg2);
+  if (turn < 1e-9 || bis.norm() < 1e-12 || normal.norm() < 1e-12) return best;
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d centre = m.vertex + bis.normalized() * (R / std::cos(half));
+  const Eigen::Vector3d w = p - centre;
+  const double h = w.dot(n);
+  const Eigen::Vector3d wp = w - h * n;
+  const Eigen::Vector3d ea = t1 - centre, eb = t2 - centre;
+  // inside the arc's angle: wp lies between ea and eb (the short way; the turn is below pi)
+  const double s_ab = ea.cross(eb).dot(n);
+  const bool inside = ea.cross(wp).dot(n) * s_ab >= 0 && wp.cross(eb).dot(n) * s_ab >= 0;
+  if (inside) best = std::min(best, std::hypot(wp.norm() - R, h));
+  return best;
+}
+
+FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
+                     const FilletFitParams& params) {
+  FilletFit out;
+  std::vector<Eigen::Vector3d> pts;
+  if (params.max_points > 0 && surface_points.size() > params.max_points) {
+    const double step = double(surface_points.size()) / double(params.max_points);
+    for (std::size_t i = 0; i < params.max_points; ++i) pts.push_back(surface_points[std::size_t(double(i) * step)]);
+  } else {
+    pts = surface_points;
+  }
+  const std::size_t n = pts.size();
+  out.points = n;
+  if (n < 3 * kParams || !(initial.bend_radius_mm > 0) || !(initial.tube_radius_mm > 0)) return out;
+
+  FilletModel model = initial;
+  model.leg1.normalize();
+  model.leg2.normalize();
+  std::vector<double> res(n), tmp;
+  auto residuals = [&](const FilletModel& m, std::vector<double>& r) {
+    for (std::size_t i = 0; i < n; ++i) r[i] = fillet_centreline_distance(m, pts[i]) - m.tube_radius_mm;
+  };
+  auto robust_sigma = [&](const std::vector<double>& r) {
+    tmp.assign(r.begin(), r.end());
+    const double med = median_of(tmp);
+    for (double& v : tmp) v = std::abs(v - med);
+    return std::max(1.4826 * median_of(tmp), params.min_noise_mm);
+  };
+  auto cost_of = [&](const std::vector<double>& r, double c) {
+    double s = 0;
+    for (double v : r) s += cauchy_rho(v, c);
+    return s;
+  };
+
+  residuals(model, res);
+  double lambda = 1e-3;
+  std::vector<double> shifted(n);
+  Eigen::MatrixXd J(n, kParams);
+  bool converged = false;
+  double c = params.kernel_factor * robust_sigma(res);
+  for (int it = 0; it < params.max_iterations; ++it) {
+    ++out.iterations;
+    c = params.kernel_factor * robust_sigma(res);
+    // Forward-difference Jacobian in the local parameterisation (steps sized to each parameter's scale).
+    const double scale = std::max(model.tube_radius_mm, 0.5);
+    const double h[kParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 * scale};
+    for (int j = 0; j < kParams; ++j) {
+      if (j == 8 && !params.fit_tube_radius) {
+        J.col(j).setZero();
+        continue;
+      }
+      Vec x = Vec::Zero();
+      x[j] = h[j];
+      residuals(apply(model, x), shifted);
+      for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
+    }
+    Mat H = Mat::Zero();
+    Vec g = Vec::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w = cauchy_weight(res[i], c);
+      const Eigen::Matrix<double, 1, kParams> row = J.row(i);
+      H.noalias() += w * row.transpose() * row;
+      g.noalias() += w * res[i] * row.transpose();
+    }
+    const double cost = cost_of(res, c);
+    bool accepted = false;
+    for (int tries = 0; tries < 12; ++tries) {
+      Mat A = H;
+      for (int j = 0; j < kParams; ++j) A(j, j) += lambda * std::max(H(j, j), 1e-12) + 1e-15;
+      const Vec step = A.ldlt().solve(-g);
+      if (!step.allFinite()) {
+        lambda *= 10;
+        continue;
+      }
+      const FilletModel trial = apply(model, step);
+      if (!(trial.tube_radius_mm > 0) || trial.turn_rad() <= 1e-6) {
+        lambda *= 10;
+        continue;
+      }
+      residuals(trial, shifted);
+      if (cost_of(shifted, c) <= cost) {
+        model = trial;
+        res.swap(shifted);
+        lambda = std::max(lambda * 0.2, 1e-9);
+        accepted = true;
+        if (step.head<3>().norm() < 1e-5 * scale && step.segment<4>(3).norm() < 1e-7 && std::abs(step[7]) < 1e-7) {
+          converged = true;
+        }
+        break;
+      }
+      lambda *= 10;
+    }
+    if (!accepted) {  // no descent left: at the minimum
+      converged = true;
+    }
+    if (converged) break;
+  }
+  // Covariance of the bend radius from the weighted normal equations at the solution.
+  c = params.kernel_factor * robust_sigma(res);
+  const double sigma = robust_sigma(res);
+  Mat H = Mat::Zero();
+  double wsum = 0, wr2 = 0;
+  {
+    const double scale = std::max(model.tube_radius_mm, 0.5);
+    const double h[kParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 * scale};
+    for (int j = 0; j < kParams; ++j) {
+      Vec x = Vec::Zero();
+      x[j] = h[j];
+      residuals(apply(model, x), shifted);
+      for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double w = cauchy_weight(res[i], c);
+      const Eigen::Matrix<double, 1, kParams> row = J.row(i);
+      H.noalias() += w * row.transpose() * row;
+      wsum += w;
+      wr2 += w * res[i] * res[i];
+    }
+  }
+  if (!params.fit_tube_radius) H(8, 8) = 1.0;
+  out.model = model;
+  out.sigma_mm = sigma;
+  out.rms_mm = wsum > 0 ? std::sqrt(wr2 / wsum) : 0.0;
+  const Eigen::LDLT<Mat> ldlt(H);
+  const Mat cov = ldlt.solve(Mat::Identity()) * (out.rms_mm * out.rms_mm);
+  // log-radius parameter: se(R) = R se(log R)
+  const double var = cov(7, 7);
+  out.bend_radius_se_mm = std::isfinite(var) && var >= 0 ? model.bend_radius_mm * std::sqrt(var)
+                                                          : std::numeric_limits<double>::infinity();
+  out.ok = converged && std::isfinite(model.bend_radius_mm) && model.turn_rad() > 1e-3 && model.tube_radius_mm > 0;
+  return out;
+}
+
+}  // namespace ewis

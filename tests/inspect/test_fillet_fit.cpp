@@ -1,0 +1,116 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+
+#include "ewis/inspect/fillet_fit.hpp"
+
+using namespace ewis;
+
+namespace {
+
+// Surface points of a tube swept along a line-arc-line centreline in the xy plane (legs of `leg_mm`, arc of
+// radius R turning by `turn_deg`), seen from a sensor 600 mm above: only the upper half, with Gaussian noise of
+// `noise_mm` along the sensor's rays and `outlier_fraction` of points scattered inside the tube.
+std::vector<Eigen::Vector3d> bent_tube(double r, double R, double turn_deg, double leg_mm, double noise_mm,
+                                       double outlier_fraction, std::uint32_t seed, FilletModel* truth) {
+  const double turn = turn_deg * M_PI / 180.0;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> axis;  // point, tangent
+  const double step = 0.25;
+  // leg 1 along +x ending at the origin; arc turning left (towards +y); leg 2
+  for (double s = -leg_mm; s < 0; s += step) axis.emplace_back(Eigen::Vector3d(s, 0, 0), Eigen::Vector3d::UnitX());
+  const Eigen::Vector3d centre(0, R, 0);
+  for (double a = 0; a < turn; a += step / R)
+    axis.emplace_back(centre + R * Eigen::Vector3d(std::sin(a), -std::cos(a), 0), Eigen::Vector3d(std::cos(a), std::sin(a), 0));
+  const Eigen::Vector3d t2(std::cos(turn), std::sin(turn), 0);
+  const Eigen::Vector3d end_arc = centre + R * Eigen::Vector3d(std::sin(turn), -std::cos(turn), 0);
+  for (double s = 0; s < leg_mm; s += step) axis.emplace_back(end_arc + s * t2, t2);
+  if (truth) {
+    const double tl = R * std::tan(0.5 * turn);
+    truth->vertex = Eigen::Vector3d(tl, 0, 0);
+    truth->leg1 = -Eigen::Vector3d::UnitX();
+    truth->leg2 = t2;
+    truth->bend_radius_mm = R;
+    truth->tube_radius_mm = r;
+  }
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const Eigen::Vector3d sensor(0, 0, 600);
+  std::vector<Eigen::Vector3d> pts;
+  for (const auto& [p, t] : axis) {
+    const Eigen::Vector3d n1 = Eigen::Vector3d::UnitZ(), n2 = t.cross(n1).normalized();
+    for (int k = 0; k < 24; ++k) {
+      const double phi = -0.5 * M_PI + M_PI * (k + 0.5) / 24.0;  // the upper half
+      const Eigen::Vector3d q = p + r * (std::cos(phi) * n1 + std::sin(phi) * n2);
+      if (uni(rng) < outlier_fraction) {
+        pts.push_back(p + 0.6 * r * uni(rng) * (std::cos(phi) * n1 + std::sin(phi) * n2));
+        continue;
+      }
+      const Eigen::Vector3d ray = (q - sensor).normalized();
+      pts.push_back(q + noise_mm * gauss(rng) * ray);
+    }
+  }
+  return pts;
+}
+
+FilletModel perturbed(const FilletModel& t, double radius_factor) {
+  FilletModel m = t;
+  m.vertex += Eigen::Vector3d(0.8, -0.6, 0.5);
+  m.leg1 = (Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitZ()) * t.leg1).normalized();
+  m.leg2 = (Eigen::AngleAxisd(-0.04, Eigen::Vector3d(0.2, 0.1, 1).normalized()) * t.leg2).normalized();
+  m.bend_radius_mm = radius_factor * t.bend_radius_mm;
+  m.tube_radius_mm = 1.1 * t.tube_radius_mm;
+  return m;
+}
+
+}  // namespace
+
+TEST(FilletFit, DistanceToTheModel) {
+  FilletModel m;
+  m.vertex = Eigen::Vector3d::Zero();
+  m.leg1 = -Eigen::Vector3d::UnitX();
+  m.leg2 = Eigen::Vector3d::UnitY();  // a right-angle turn
+  m.bend_radius_mm = 10.0;
+  EXPECT_NEAR(m.turn_rad(), 0.5 * M_PI, 1e-12);
+  // the arc's centre is (-10, 10); its middle point is at distance 10 from it
+  const Eigen::Vector3d centre(-10, 10, 0);
+  const Eigen::Vector3d mid = centre + 10.0 * Eigen::Vector3d(1, -1, 0).normalized();
+  EXPECT_NEAR(fillet_centreline_distance(m, mid), 0.0, 1e-9);
+  EXPECT_NEAR(fillet_centreline_distance(m, mid + Eigen::Vector3d(0, 0, 2)), 2.0, 1e-9);
+  EXPECT_NEAR(fillet_centreline_distance(m, centre), 10.0, 1e-9);
+  // on the legs, beyond the tangent points (-10, 0) and (0, 10)
+  EXPECT_NEAR(fillet_centreline_distance(m, Eigen::Vector3d(-30, 1.5, 0)), 1.5, 1e-9);
+  EXPECT_NEAR(fillet_centreline_distance(m, Eigen::Vector3d(-2, 40, 0)), 2.0, 1e-9);
+}
+
+// A short tight bend: 17 deg at 2 diameters (an arc of 0.6 diameter). Its centreline leaves the legs' corner by
+// only 0.29 mm, yet the surface points give the radius within a few percent.
+TEST(FilletFit, ShortTightBendFromNoisySurface) {
+  FilletModel truth;
+  const auto pts = bent_tube(6.4, 25.9, 17.0, 40.0, 0.2, 0.1, 3, &truth);
+  const FilletFit f = fit_fillet(pts, perturbed(truth, 2.5));
+  ASSERT_TRUE(f.ok);
+  EXPECT_NEAR(f.model.bend_radius_mm, 25.9, 0.05 * 25.9);
+  EXPECT_NEAR(f.model.tube_radius_mm, 6.4, 0.1);
+  EXPECT_NEAR(f.model.turn_rad() * 180 / M_PI, 17.0, 0.5);
+  EXPECT_LT(f.bend_radius_se_mm, 0.1 * 25.9);
+}
+
+TEST(FilletFit, RightAngleBend) {
+  FilletModel truth;
+  const auto pts = bent_tube(5.0, 30.0, 90.0, 30.0, 0.2, 0.1, 4, &truth);
+  const FilletFit f = fit_fillet(pts, perturbed(truth, 0.6));
+  ASSERT_TRUE(f.ok);
+  EXPECT_NEAR(f.model.bend_radius_mm, 30.0, 0.02 * 30.0);
+  EXPECT_NEAR(f.model.turn_rad() * 180 / M_PI, 90.0, 1.0);
+}
+
+TEST(FilletFit, ThinCableLongArc) {
+  FilletModel truth;
+  const auto pts = bent_tube(2.5, 60.0, 60.0, 20.0, 0.2, 0.1, 5, &truth);
+  const FilletFit f = fit_fillet(pts, perturbed(truth, 1.5));
+  ASSERT_TRUE(f.ok);
+  EXPECT_NEAR(f.model.bend_radius_mm, 60.0, 0.03 * 60.0);
+}
