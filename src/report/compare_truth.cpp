@@ -1,4 +1,6 @@
 // One scene: report.json against truth.json (rules in include/ewis/report/evaluation.hpp).
+#include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -66,6 +68,19 @@ bool match_interference(const json* cable, const std::optional<std::string>& wit
     any = true;
   }
   return any;
+}
+
+// A 4x4 row-major matrix as a JSON array of 4 arrays of 4 numbers; false when it is not one.
+bool read_matrix(const json& j, Eigen::Matrix4d& m) {
+  if (!j.is_array() || j.size() != 4) return false;
+  for (int r = 0; r < 4; ++r) {
+    if (!j[r].is_array() || j[r].size() != 4) return false;
+    for (int c = 0; c < 4; ++c) {
+      if (!j[r][c].is_number()) return false;
+      m(r, c) = j[r][c].get<double>();
+    }
+  }
+  return m.allFinite();
 }
 
 }  // namespace
@@ -146,6 +161,30 @@ SceneEvaluation compare_with_truth(const std::string& report_json, const std::st
     if (const json* cable = report_cable(*elements, b.cable)) b.measured_mm = opt_number(*cable, "min_bend_radius_mm");
     if (b.measured_mm) b.error_pct = (*b.measured_mm - b.truth_mm) / b.truth_mm * 100.0;
     s.bends.push_back(std::move(b));
+  }
+
+  // Registration: the difference of the two scan-to-CAD transforms, measured at the truth's cable points.
+  Eigen::Matrix4d measured, truth_pose;
+  const auto reg = report.find("registration");
+  const auto cam = truth.find("camera_to_cad");
+  if (reg != report.end() && reg->is_object() && reg->contains("transform") && cam != truth.end() &&
+      read_matrix((*reg)["transform"], measured) && read_matrix(*cam, truth_pose)) {
+    const Eigen::Matrix4d diff = measured * truth_pose.inverse();
+    const double c = std::clamp((diff.topLeftCorner<3, 3>().trace() - 1.0) / 2.0, -1.0, 1.0);
+    s.registration_rotation_deg = std::acos(c) * 180.0 / M_PI;
+    double worst = 0.0;
+    bool any = false;
+    for (const json& t : *cables) {
+      const auto cl = t.find("centerline");
+      if (cl == t.end() || !cl->is_array()) continue;
+      for (const json& q : *cl) {
+        if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number()) continue;
+        const Eigen::Vector4d p(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), 1.0);
+        worst = std::max(worst, (diff * p - p).head<3>().norm());
+        any = true;
+      }
+    }
+    if (any) s.registration_error_mm = worst;
   }
   return s;
 }

@@ -61,7 +61,7 @@ CampaignEvaluation evaluate_campaign(const std::string& campaign_dir, const std:
     in.cad = dir + "/scene.obj";
     in.plan = dir + "/plan.json";
     in.scan = dir + "/scan.ply";
-    in.pose = dir + "/pose.txt";
+    if (params.use_pose) in.pose = dir + "/pose.txt";
     SceneEvaluation e;
     e.scene = names[i];
     const auto t0 = std::chrono::steady_clock::now();

@@ -75,7 +75,7 @@ ErrorStats error_stats(std::vector<double> v) {
 EvaluationSummary summarize(const std::vector<SceneEvaluation>& scenes) {
   EvaluationSummary s;
   for (const char* k : kStandardKinds) s.defects[k];
-  std::vector<double> bend, gap, secs;
+  std::vector<double> bend, gap, secs, reg_deg, reg_mm;
   s.scenes = scenes.size();
   for (const SceneEvaluation& e : scenes) {
     if (!e.ran) {
@@ -97,7 +97,15 @@ EvaluationSummary summarize(const std::vector<SceneEvaluation>& scenes) {
       if (b.error_pct) bend.push_back(std::abs(*b.error_pct));
       else ++s.bend_radius_missing;
     }
+    if (e.registration_rotation_deg && e.registration_error_mm) {
+      ++s.registration_compared;
+      reg_deg.push_back(*e.registration_rotation_deg);
+      reg_mm.push_back(*e.registration_error_mm);
+      s.registration_within_goal += *e.registration_rotation_deg <= 0.1 && *e.registration_error_mm <= 0.3;
+    }
   }
+  s.registration_rotation_deg = error_stats(reg_deg);
+  s.registration_error_mm = error_stats(reg_mm);
   s.bend_radius_error_pct = error_stats(bend);
   s.gap_error_mm = error_stats(gap);
   s.seconds_per_scene = error_stats(secs);
@@ -132,6 +140,11 @@ std::string evaluation_to_json(const EvaluationSummary& s, const std::vector<Sce
     o["bend_radius_error_pct_3_to_20_diameters"] = j;
   }
   o["gap_compared"] = s.gap_error_mm.count;
+  o["registration"] = {{"compared", s.registration_compared},
+                       {"within_goal", s.registration_within_goal},
+                       {"goal", "rotation <= 0.1 deg and error <= 0.3 mm at the truth's cable points"},
+                       {"rotation_error_deg", stats_json(s.registration_rotation_deg)},
+                       {"error_at_cables_mm", stats_json(s.registration_error_mm)}};
   ojson list = ojson::array();
   for (const SceneEvaluation& e : scenes) {
     ojson j;
@@ -159,6 +172,8 @@ std::string evaluation_to_json(const EvaluationSummary& s, const std::vector<Sce
       bs.push_back({{"cable", b.cable}, {"truth_mm", round4(b.truth_mm)}, {"measured_mm", opt_json(b.measured_mm)},
                     {"error_pct", opt_json(b.error_pct)}});
     j["bends"] = bs;
+    j["registration_rotation_deg"] = opt_json(e.registration_rotation_deg);
+    j["registration_error_mm"] = opt_json(e.registration_error_mm);
     j["seconds"] = round4(e.seconds);
     list.push_back(j);
   }
@@ -185,6 +200,10 @@ std::string evaluation_to_markdown(const EvaluationSummary& s, const std::vector
   const ErrorStats& g = s.gap_error_mm;
   o << "| gap error, abs. (median / p95 / max) | " << fmt(g.median, 3, " mm") << " / " << fmt(g.p95, 3, " mm") << " / "
     << fmt(g.max, 3, " mm") << " (" << g.count << " gaps) |\n";
+  o << "| registration within 0.1 deg / 0.3 mm of the truth | " << s.registration_within_goal << " of "
+    << s.registration_compared << " (" << pct(s.registration_within_goal, s.registration_compared)
+    << "); error at the cables median " << fmt(s.registration_error_mm.median, 3, " mm") << ", p95 "
+    << fmt(s.registration_error_mm.p95, 3, " mm") << ", max " << fmt(s.registration_error_mm.max, 3, " mm") << " |\n";
   o << "| seconds per scene (median / max) | " << fmt(s.seconds_per_scene.median, 2, " s") << " / "
     << fmt(s.seconds_per_scene.max, 2, " s") << " |\n\n";
 
@@ -192,8 +211,8 @@ std::string evaluation_to_markdown(const EvaluationSummary& s, const std::vector
   for (const auto& [kind, t] : s.defects)
     o << "| " << md_cell(kind) << " | " << t.present << " | " << t.found << " | " << pct(t.found, t.present) << " |\n";
 
-  o << "\n## Scenes\n\n| scene | verdict | expected | outcome | defects found | worst bend error | time |\n"
-       "|---|---|---|---|---|---:|---:|\n";
+  o << "\n## Scenes\n\n| scene | verdict | expected | outcome | defects found | worst bend error | registration | time |\n"
+       "|---|---|---|---|---|---:|---:|---:|\n";
   for (const SceneEvaluation& e : scenes) {
     std::size_t found = 0;
     for (const DefectCheck& d : e.defects) found += d.found;
@@ -208,7 +227,8 @@ std::string evaluation_to_markdown(const EvaluationSummary& s, const std::vector
       << (e.ran ? (e.truth_has_defects ? "fail" : "pass") : "-") << " | "
       << (e.outcome == VerdictOutcome::Correct ? "correct" : std::string("**") + verdict_outcome_name(e.outcome) + "**")
       << " | " << (e.defects.empty() ? "-" : std::to_string(found) + "/" + std::to_string(e.defects.size()) + ": " + md_cell(list))
-      << " | " << fmt(worst, 2, " %") << " | " << fmt(e.seconds, 2, " s") << " |\n";
+      << " | " << fmt(worst, 2, " %") << " | " << fmt(e.registration_rotation_deg, 3, " deg") << ", "
+      << fmt(e.registration_error_mm, 2, " mm") << " | " << fmt(e.seconds, 2, " s") << " |\n";
   }
   if (s.failed_runs) {
     o << "\n## Failed runs\n\n| scene | error |\n|---|---|\n";

@@ -54,6 +54,10 @@ struct SceneEvaluation {
   VerdictOutcome outcome = VerdictOutcome::NotRun;
   std::vector<DefectCheck> defects;
   std::vector<BendCheck> bends;
+  // Registration (issue 4): the report's transform against the truth's camera_to_cad: the rotation angle of
+  // their difference, and the largest displacement it causes at the truth's cable centreline points (the
+  // scene's points). nullopt when either side lacks the transform.
+  std::optional<double> registration_rotation_deg, registration_error_mm;
   double seconds = 0.0;                 // wall time of the inspection (load + inspect + write)
 };
 
@@ -83,6 +87,9 @@ struct EvaluationSummary {
   std::size_t bend_radius_missing = 0;                   // truth has a radius, the report none
   ErrorStats gap_error_mm;                               // absolute errors
   ErrorStats seconds_per_scene;                          // scenes that ran
+  // Registration against the truth: within the goal (<= 0.1 deg and <= 0.3 mm at the scene's points).
+  std::size_t registration_compared = 0, registration_within_goal = 0;
+  ErrorStats registration_rotation_deg, registration_error_mm;
 };
 EvaluationSummary summarize(const std::vector<SceneEvaluation>& scenes);
 
@@ -99,6 +106,7 @@ std::vector<std::string> campaign_scenes(const std::string& campaign_dir);
 
 struct EvaluateParams {
   RunInspectionParams run;
+  bool use_pose = true;                 // false: pose.txt is ignored and every scene is registered globally
   // Called after each scene (for progress lines on stderr): index, count, the scene's evaluation.
   std::function<void(std::size_t, std::size_t, const SceneEvaluation&)> on_scene;
   ProgressFn progress;                  // inside one inspection
