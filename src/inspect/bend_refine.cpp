@@ -5,6 +5,7 @@
 
 #include "ewis/core/parallel.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
+#include "ewis/search/kdtree.hpp"
 
 namespace ewis {
 namespace {
@@ -70,6 +71,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   for (std::size_t i : order) {
     if (int(cands.size()) >= params.max_candidates) break;
     const BendSample& p = bend.profile[i];
+    // Far looser than the tightest window: not the minimum, even if a fit read it a few times tighter.
+    if (p.radius_mm > params.max_radius_ratio * bend.profile[order.front()].radius_mm) break;
     const double half = std::max(0.5 * (p.window_end_mm - p.window_start_mm) + params.leg_diameters * diameter_mm,
                                  params.min_half_window_diameters * diameter_mm);
     bool taken = false;
@@ -79,6 +82,18 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     }
     if (!taken) cands.push_back({i, half});
   }
+
+  if (cands.empty()) return 0;
+  // Each surface point's nearest centreline sample (its arc length decides which windows it belongs to).
+  std::vector<Eigen::Vector3f> cl(centerline.size());
+  for (std::size_t i = 0; i < centerline.size(); ++i) cl[i] = centerline[i].cast<float>();
+  const KdTree cl_tree(cl);
+  std::vector<double> point_arc(surface_points.size(), -1.0);
+  const double near_sq = (tube_radius_mm + 2.0) * (tube_radius_mm + 2.0);
+  parallel_for_each_index(surface_points.size(), [&](std::size_t i) {
+    const Neighbor nb = cl_tree.nearest(surface_points[i].cast<float>());
+    if (nb.index != UINT32_MAX && double(nb.distance_sq) <= near_sq) point_arc[i] = arc[nb.index];
+  }, 4096);
 
   struct Outcome {
     bool ok = false;
@@ -108,23 +123,10 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     if (!init.leg1.allFinite() || !init.leg2.allFinite() || init.turn_rad() < 1e-3) return;
     init.bend_radius_mm = std::clamp(p.radius_mm, 0.5 * diameter_mm, 50.0 * diameter_mm);
     init.tube_radius_mm = tube_radius_mm;
-    // The window's surface points: nearest (among the centreline samples around it) to a sample inside it.
-    const double reach = cands[k].half_window_mm + tube_radius_mm + 2.0;
-    std::size_t i0 = std::size_t(std::lower_bound(arc.begin(), arc.end(), s0 - diameter_mm) - arc.begin());
-    std::size_t i1 = std::size_t(std::upper_bound(arc.begin(), arc.end(), s1 + diameter_mm) - arc.begin());
+    // The window's surface points: those whose nearest centreline sample lies inside it.
     std::vector<Eigen::Vector3d> pts;
-    for (const Eigen::Vector3d& x : surface_points) {
-      if ((x - centre).squaredNorm() > reach * reach) continue;
-      double best = 1e300;
-      std::size_t at = i0;
-      for (std::size_t i = i0; i < i1; ++i) {
-        const double d = (x - centerline[i]).squaredNorm();
-        if (d < best) best = d, at = i;
-      }
-      if (arc[at] < s0 || arc[at] > s1) continue;
-      if (best > (tube_radius_mm + 2.0) * (tube_radius_mm + 2.0)) continue;
-      pts.push_back(x);
-    }
+    for (std::size_t i = 0; i < surface_points.size(); ++i)
+      if (point_arc[i] >= s0 && point_arc[i] <= s1) pts.push_back(surface_points[i]);
     Outcome& o = outcomes[k];
     o.fit = fit_fillet(pts, init, params.fit);
     const FilletFit& f = o.fit;

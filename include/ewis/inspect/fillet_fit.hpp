@@ -25,7 +25,7 @@ double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p
 
 struct FilletFitParams {
   int max_iterations = 40;
-  std::size_t max_points = 4000;      // evenly strided subset used by the fit (0: all)
+  std::size_t max_points = 2500;      // evenly strided subset used by the fit (0: all)
   double min_noise_mm = 0.05;         // floor of the robust residual scale
   double kernel_factor = 2.5;         // Cauchy scale = kernel_factor x robust sigma of the residuals
   bool fit_tube_radius = true;
@@ -54,7 +54,8 @@ namespace ewis {
 
 struct FilletRefineParams {
   bool enabled = true;
-  int max_candidates = 8;             // bends re-measured per run (the tightest windows of the circle profile)
+  int max_candidates = 6;             // bends re-measured per run (the tightest windows of the circle profile) ...
+  double max_radius_ratio = 5.0;      // ... whose circle radius is within this factor of the tightest one's
   double leg_diameters = 2.0;         // each window reaches this far beyond the circle window's half-length ...
   double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
