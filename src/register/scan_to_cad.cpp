@@ -6,6 +6,11 @@
 // pins it far below the sensor noise; every step (exclusion zone, ICP, fitness) runs on that subsample. Each pass
 // matches against the part of the CAD target that faces the sensor and lies within the pass's correspondence
 // distance of the scan: a small k-d tree, built once per pass.
+//
+// Mixed pixels (issue: a plate scene converged 15 mm off): when the scan is in its sensor's frame, the veils of
+// mixed pixels at depth edges are dropped from the subsample first (veil_points.hpp). A veil hangs ~1 mm beside
+// the CAD face behind its edge and, matched to it, drags the pose along the directions a large plate leaves
+// weak; the robust kernel cannot tell it from a real face at that distance, and it counts as fitness too.
 #include "ewis/register/scan_to_cad.hpp"
 
 #include <algorithm>
@@ -14,6 +19,7 @@
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
+#include "ewis/register/veil_points.hpp"
 
 namespace ewis {
 namespace {
@@ -106,7 +112,8 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   return run;
 }
 
-ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, std::size_t full_size,
+// `scan_per_point`: scan points each subsample point stands for (to report counts for the whole scan).
+ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, double scan_per_point,
                                    const CadTarget& target, const std::optional<Pose>& initial_scan_to_cad,
                                    const ScanToCadParams& params, const ProgressFn& progress) {
   ScanToCadResult res;
@@ -149,17 +156,15 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, std
   }
   res.valid = have && res.registration.fitness >= params.min_fitness;
   // The count of left-out points is reported for the whole scan (the subsample is an even spread of it).
-  if (!scan.empty())
-    res.excluded_near_cables = static_cast<std::size_t>(std::llround(
-        static_cast<double>(res.excluded_near_cables) * static_cast<double>(full_size) / static_cast<double>(scan.size())));
-  if (!res.valid && params.icp.use_source_viewpoint) {
-    // The scan may not be in its sensor's frame after all: retry once without visibility culling.
-    ScanToCadParams plain = params;
-    plain.icp.use_source_viewpoint = false;
-    ScanToCadResult retry = register_subsample(scan, full_size, target, initial_scan_to_cad, plain, progress);
-    if (retry.registration.fitness > res.registration.fitness) res = retry;
-  }
+  res.excluded_near_cables =
+      static_cast<std::size_t>(std::llround(static_cast<double>(res.excluded_near_cables) * scan_per_point));
   return res;
+}
+
+std::vector<Eigen::Vector3f> gather(const std::vector<Eigen::Vector3f>& points, const std::vector<std::uint32_t>& idx) {
+  std::vector<Eigen::Vector3f> out(idx.size());
+  for (std::size_t i = 0; i < idx.size(); ++i) out[i] = points[idx[i]];
+  return out;
 }
 
 }  // namespace
@@ -170,7 +175,27 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
   if (scan.empty()) throw InputError("", "registration: the scan has no points");
   if (!target.rigid_tree || target.rigid.empty()) throw InputError("", "registration: empty CAD target");
   const std::vector<Eigen::Vector3f> sub = spread_subsample(scan.points, params.max_scan_points);
-  return register_subsample(sub, scan.size(), target, initial_scan_to_cad, params, progress);
+  const double per_point = static_cast<double>(scan.size()) / static_cast<double>(sub.size());
+  if (!params.icp.use_source_viewpoint)
+    return register_subsample(sub, per_point, target, initial_scan_to_cad, params, progress);
+
+  // In the sensor's frame: without the veils of mixed pixels (unless nearly everything looks like one: then
+  // the scan is not in its sensor's frame after all, and the retry below uses every point).
+  std::vector<Eigen::Vector3f> clean;
+  if (params.drop_veils) {
+    const std::vector<std::uint32_t> off = points_off_veils(sub, params.icp.source_viewpoint, params.veil);
+    if (off.size() >= sub.size() / 2) clean = gather(sub, off);
+  }
+  const std::vector<Eigen::Vector3f>& used = clean.empty() ? sub : clean;
+  ScanToCadResult res = register_subsample(used, per_point, target, initial_scan_to_cad, params, progress);
+  if (!res.valid) {
+    // The scan may not be in its sensor's frame after all: retry once without visibility culling or veils.
+    ScanToCadParams plain = params;
+    plain.icp.use_source_viewpoint = false;
+    ScanToCadResult retry = register_subsample(sub, per_point, target, initial_scan_to_cad, plain, progress);
+    if (retry.registration.fitness > res.registration.fitness) res = retry;
+  }
+  return res;
 }
 
 }  // namespace ewis

@@ -7,6 +7,7 @@
 #include "ewis/register/cad_target.hpp"
 #include "ewis/register/global_registration.hpp"
 #include "ewis/register/icp.hpp"
+#include "ewis/register/veil_points.hpp"
 
 namespace ewis {
 
@@ -21,6 +22,10 @@ struct ScanToCadParams {
   // on the same subsample (an unbiased estimate of the whole scan's).
   std::size_t max_scan_points = 50000;
   std::size_t rank_probe_points = 2000;  // subsample points that re-rank the global candidates
+  // With icp.use_source_viewpoint (the scan in its sensor's frame): veils of mixed pixels are dropped from the
+  // subsample before anything else (veil_points.hpp); they bias the pose along weakly constrained directions.
+  bool drop_veils = true;
+  VeilParams veil;
   // The scan is in its sensor's frame (CONTRACT: scan.ply), so CAD faces turned away from the sensor are culled.
   ScanToCadParams() {
     icp.expected_error_mm = 60.0;
@@ -32,7 +37,8 @@ struct ScanToCadParams {
 };
 
 struct ScanToCadResult {
-  RegistrationResult registration;    // source_to_target = scan_to_cad; fitness over the points used
+  RegistrationResult registration;    // source_to_target = scan_to_cad; fitness over the points used (the
+                                      // subsample without veils and without the cable exclusion zone)
   bool valid = false;                 // fitness >= min_fitness and the ICP converged
   bool used_global = false;
   std::size_t excluded_near_cables = 0;  // scan points left out as lying on a cable's CAD position
