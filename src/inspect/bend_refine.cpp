@@ -53,7 +53,7 @@ struct Candidate {
 
 int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::Vector3d>& centerline,
                               const std::vector<Eigen::Vector3d>& surface_points, double tube_radius_mm,
-                              double diameter_mm, const FilletRefineParams& params) {
+                              double diameter_mm, const FilletRefineParams& params, const FilletScan& scan) {
   if (!params.enabled || bend.profile.empty() || centerline.size() < 3 || surface_points.empty() ||
       !(tube_radius_mm > 0) || !(diameter_mm > 0))
     return 0;
@@ -129,9 +129,31 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (point_arc[i] >= s0 && point_arc[i] <= s1) pts.push_back(surface_points[i]);
     Outcome& o = outcomes[k];
     o.fit = fit_fillet(pts, init, params.fit);
+    if (params.regather && scan.cloud && scan.tree && o.fit.ok) {
+      // Again on the scan points around the first fit's surface (the corner's apex included).
+      const FilletModel& m1 = o.fit.model;
+      const double band = params.regather_band_mm > 0
+                              ? params.regather_band_mm
+                              : std::max({3.0 * o.fit.sigma_mm, 0.25 * tube_radius_mm, 0.5});
+      const double reach = cands[k].half_window_mm + m1.tube_radius_mm + band;
+      std::vector<Neighbor> nb;
+      scan.tree->radius(m1.vertex.cast<float>(), float(reach), nb);
+      std::vector<Eigen::Vector3d> again;
+      for (const Neighbor& n : nb) {
+        if (scan.usable && n.index < scan.usable->size() && !(*scan.usable)[n.index]) continue;
+        const Eigen::Vector3d x = scan.cloud->points[n.index].cast<double>();
+        if (std::abs(fillet_centreline_distance(m1, x) - m1.tube_radius_mm) <= band) again.push_back(x);
+      }
+      const FilletFit second = fit_fillet(again, m1, params.fit);
+      if (second.ok) o.fit = second;
+    }
     const FilletFit& f = o.fit;
-    o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg &&
-           f.bend_radius_se_mm <= params.max_se_fraction * f.model.bend_radius_mm &&
+    // A precise fit is taken as it is; a looser one (a short arc of a thin cable holds few points) only where it
+    // shows the circle windows reading high by more than two of its standard errors (they cut short corners).
+    const double se = f.bend_radius_se_mm, R = f.model.bend_radius_mm;
+    const bool precise_enough = se <= params.max_se_fraction * R ||
+                                (se <= params.max_se_fraction_vs_circle * R && p.radius_mm - R > 2.0 * se);
+    o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg && precise_enough &&
            std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
            (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
            f.model.bend_radius_mm <= 100.0 * diameter_mm;

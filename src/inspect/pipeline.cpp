@@ -272,8 +272,12 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const C
       std::vector<Eigen::Vector3d> surface;
       surface.reserve(ci.runs[k].points.size());
       for (std::uint32_t i : ci.runs[k].points) surface.push_back(cloud.points[i].cast<double>());
+      FilletScan fs;
+      fs.cloud = &cloud;
+      fs.tree = &tree;
+      fs.usable = &usable;
       refine_bends_with_fillets(b, ci.runs[k].centerline, surface, ci.runs[k].radius_mm, ci.nominal_diameter_mm,
-                                params.fillet);
+                                params.fillet, fs);
       const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
       if (better) {
         ci.bend = std::move(b);

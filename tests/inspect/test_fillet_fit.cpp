@@ -114,3 +114,12 @@ TEST(FilletFit, ThinCableLongArc) {
   ASSERT_TRUE(f.ok);
   EXPECT_NEAR(f.model.bend_radius_mm, 60.0, 0.03 * 60.0);
 }
+
+// A very tight bend of a thin cable: 35 deg at R = 1.7 d (d 3.9 mm), 0.2 mm noise: a few hundred points.
+TEST(FilletFit, VeryTightThinBend) {
+  FilletModel truth;
+  const auto pts = bent_tube(1.93, 6.7, 35.0, 15.0, 0.2, 0.1, 6, &truth);
+  const FilletFit f = fit_fillet(pts, perturbed(truth, 2.0));
+  ASSERT_TRUE(f.ok);
+  EXPECT_NEAR(f.model.bend_radius_mm, 6.7, 0.05 * 6.7);
+}

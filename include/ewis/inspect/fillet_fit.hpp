@@ -48,7 +48,11 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
 
 }  // namespace ewis
 
+#include <cstdint>
+
+#include "ewis/core/cloud.hpp"
 #include "ewis/inspect/bend_radius.hpp"
+#include "ewis/search/kdtree.hpp"
 
 namespace ewis {
 
@@ -59,9 +63,24 @@ struct FilletRefineParams {
   double leg_diameters = 2.0;         // each window reaches this far beyond the circle window's half-length ...
   double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
-  double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error)
+  double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error) ...
+  double max_se_fraction_vs_circle = 0.4;  // ... or to this one when it lies over 2 standard errors below the
+                                           // circle windows' radius there
   double tube_radius_tolerance = 0.25;  // the fitted tube radius within this fraction of the measured one
+  // The cable's point set S comes from a chain of straight cylinders, which cuts a tight bend's corner and so
+  // leaves out the outer surface at its apex: the very points that carry the radius. With the scan given, the
+  // fit is repeated on every usable scan point within the tube radius + regather_band of the first fit's surface
+  // (band <= 0: max(3 x the fit's sigma, 0.25 x tube radius, 0.5 mm)).
+  bool regather = true;
+  double regather_band_mm = 0.0;
   FilletFitParams fit;
+};
+
+// Optional access to the whole scan for the refit (see FilletRefineParams::regather); same frame as the points.
+struct FilletScan {
+  const Cloud* cloud = nullptr;
+  const KdTree* tree = nullptr;
+  const std::vector<std::uint8_t>* usable = nullptr;  // 0: not a cable point (e.g. on a rigid CAD surface)
 };
 
 // Re-measures the tightest bends of `bend` (measure_bend_radius on `centerline`) with fillet fits to the cable's
@@ -70,6 +89,7 @@ struct FilletRefineParams {
 // Returns the number of bends re-measured. Deterministic.
 int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::Vector3d>& centerline,
                               const std::vector<Eigen::Vector3d>& surface_points, double tube_radius_mm,
-                              double diameter_mm, const FilletRefineParams& params = {});
+                              double diameter_mm, const FilletRefineParams& params = {},
+                              const FilletScan& scan = {});
 
 }  // namespace ewis
