@@ -156,7 +156,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg && precise_enough &&
            std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
            (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
-           f.model.bend_radius_mm <= 100.0 * diameter_mm;
+           f.model.bend_radius_mm <= 100.0 * diameter_mm &&
+           f.model.bend_radius_mm >= f.model.tube_radius_mm;  // tighter, the inside would fold into itself
   }, 1);
 
   // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on radius + 2 se.

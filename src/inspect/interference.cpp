@@ -1,6 +1,8 @@
 // paper 4.3.2: interference detection (see interference.hpp for the rules).
 #include "ewis/inspect/interference.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,7 +42,27 @@ bool is_veil(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint
     const Eigen::Vector3d ray = (cloud.points[pts[i]].cast<double>() - params.sensor_position).normalized();
     if (std::abs(ray.dot(normals[i].cast<double>())) < params.veil_cos_max) ++grazing;
   }
-  return defined > 0 && double(grazing) >= params.veil_fraction * double(defined);
+  if (defined == 0 || double(grazing) < params.veil_fraction * double(defined)) return false;
+  // ... and it is a curtain one or two pixels wide as the sensor sees it: its footprint across the mean viewing
+  // ray is narrow. A real object seen obliquely (a box's flank) covers an area of the image.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::uint32_t i : pts) mean += cloud.points[i].cast<double>();
+  mean /= double(pts.size());
+  const Eigen::Vector3d view = (mean - params.sensor_position).normalized();
+  const Eigen::Vector3d u = view.unitOrthogonal(), v = view.cross(u);
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (std::uint32_t i : pts) {
+    const Eigen::Vector3d d = cloud.points[i].cast<double>() - mean;
+    // onto the plane across the ray through the mean, along each point's own ray (a perspective projection)
+    const Eigen::Vector3d ray = (cloud.points[i].cast<double>() - params.sensor_position).normalized();
+    const double t = -d.dot(view) / std::max(ray.dot(view), 1e-6);
+    const Eigen::Vector2d q((d + t * ray).dot(u), (d + t * ray).dot(v));
+    cov += q * q.transpose();
+  }
+  cov /= double(pts.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  const double width = std::sqrt(12.0 * std::max(es.eigenvalues()(0), 0.0));  // of a uniform strip
+  return width <= std::max(params.veil_max_width_mm, params.veil_max_width_res * params.resolution_mm);
 }
 
 }  // namespace

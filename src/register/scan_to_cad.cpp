@@ -129,7 +129,10 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   };
   if (initial_scan_to_cad)
     consider(refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress), false);
-  const bool ok = have && res.registration.fitness >= params.min_fitness;
+  // A pose slid along a symmetry of the scene (parallel pipes, a plate's long edge) still validates, but with a
+  // fitness well below a right pose's: below trusted_fitness the global registration is tried too, and the
+  // higher fitness wins.
+  const bool ok = have && res.registration.fitness >= std::max(params.min_fitness, params.trusted_fitness);
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
     Cloud source;
     source.points = scan;

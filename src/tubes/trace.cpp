@@ -284,8 +284,12 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
     }
     AxisState s;
     if (initialise_at(ctx, cloud.points[best].cast<double>(), radius_mm, s) &&
-        std::abs(s.radius_mm / radius_mm - 1.0) <= 0.35)
-      return trace_from(ctx, s, c);
+        std::abs(s.radius_mm / radius_mm - 1.0) <= 0.35) {
+      // A start beside a clamp or connector can grow one odd sub-cable and stop at once: that is no cable
+      // (shorter than a diameter, or of another radius); the next candidate is tried (paper 4.2.1's fallback).
+      TubeTrace t = trace_from(ctx, s, c);
+      if (t.found && t.length_mm >= 2.0 * radius_mm && std::abs(t.radius_mm / radius_mm - 1.0) <= 0.35) return t;
+    }
     failed.push_back(c);
   }
   return none;

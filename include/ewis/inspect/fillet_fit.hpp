@@ -64,7 +64,7 @@ struct FilletRefineParams {
   double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
   double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error) ...
-  double max_se_fraction_vs_circle = 0.4;  // ... or to this one when it lies over 2 standard errors below the
+  double max_se_fraction_vs_circle = 0.2;  // ... or to this one when it lies over 2 standard errors below the
                                            // circle windows' radius there
   double tube_radius_tolerance = 0.25;  // the fitted tube radius within this fraction of the measured one
   // The cable's point set S comes from a chain of straight cylinders, which cuts a tight bend's corner and so

@@ -93,6 +93,10 @@ struct InterferenceParams {
   double veil_cos_max = 0.25;
   double veil_fraction = 0.6;
   double veil_radius_mm = 2.0;
+  // ... and whose footprint across the mean viewing ray is at most max(veil_max_width_mm, veil_max_width_res x
+  // resolution) wide (a curtain along a depth edge is a pixel or two wide; an object seen obliquely is not).
+  double veil_max_width_mm = 1.5;
+  double veil_max_width_res = 3.0;
 };
 
 struct Interference {
