@@ -145,14 +145,29 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         if (std::abs(fillet_centreline_distance(m1, x) - m1.tube_radius_mm) <= band) again.push_back(x);
       }
       const FilletFit second = fit_fillet(again, m1, params.fit);
-      if (second.ok) o.fit = second;
+      if (second.ok) {
+        o.fit = second;
+        pts.swap(again);
+      }
     }
     const FilletFit& f = o.fit;
     // A precise fit is taken as it is; a looser one (a short arc of a thin cable holds few points) only where it
     // shows the circle windows reading high by more than two of its standard errors (they cut short corners).
     const double se = f.bend_radius_se_mm, R = f.model.bend_radius_mm;
-    const bool precise_enough = se <= params.max_se_fraction * R ||
-                                (se <= params.max_se_fraction_vs_circle * R && p.radius_mm - R > 2.0 * se);
+    bool precise_enough = se <= params.max_se_fraction * R;
+    if (!precise_enough && f.ok && se <= params.max_se_fraction_vs_circle * R && p.radius_mm - R > 2.0 * se) {
+      // The competing hypothesis: the same model held at the circle windows' radius. The data must prefer
+      // the fit's radius clearly (a wrong local minimum of a thin cable's fit does not).
+      FilletFitParams held = params.fit;
+      held.fit_bend_radius = false;
+      FilletModel start = f.model;
+      start.bend_radius_mm = std::max(p.radius_mm, f.model.tube_radius_mm);
+      const FilletFit alt = fit_fillet(pts, start, held);
+      const double c = params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
+      const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
+      const double lr = 2.0 * (fillet_robust_cost(pts, alt.model, c) - fillet_robust_cost(pts, f.model, c)) / sigma2;
+      precise_enough = lr >= params.min_log_likelihood_ratio;
+    }
     o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg && precise_enough &&
            std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
            (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&

@@ -46,6 +46,13 @@ double median_of(std::vector<double>& v) {
 
 }  // namespace
 
+double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm) {
+  double s = 0;
+  for (const Eigen::Vector3d& p : points)
+    s += cauchy_rho(fillet_centreline_distance(model, p) - model.tube_radius_mm, scale_mm);
+  return s;
+}
+
 double FilletModel::turn_rad() const {
   return M_PI - std::acos(std::clamp(leg1.dot(leg2), -1.0, 1.0));
 }
@@ -124,7 +131,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
     const double scale = std::max(model.tube_radius_mm, 0.5);
     const double h[kParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 * scale};
     for (int j = 0; j < kParams; ++j) {
-      if (j == 8 && !params.fit_tube_radius) {
+      if ((j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius)) {
         J.col(j).setZero();
         continue;
       }
@@ -187,6 +194,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
       x[j] = h[j];
       residuals(apply(model, x), shifted);
       for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
+      if ((j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius)) J.col(j).setZero();
     }
     for (std::size_t i = 0; i < n; ++i) {
       const double w = cauchy_weight(res[i], c);
@@ -197,6 +205,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
     }
   }
   if (!params.fit_tube_radius) H(8, 8) = 1.0;
+  if (!params.fit_bend_radius) H(7, 7) = 1.0;
   out.model = model;
   out.sigma_mm = sigma;
   out.rms_mm = wsum > 0 ? std::sqrt(wr2 / wsum) : 0.0;

@@ -29,6 +29,7 @@ struct FilletFitParams {
   double min_noise_mm = 0.05;         // floor of the robust residual scale
   double kernel_factor = 2.5;         // Cauchy scale = kernel_factor x robust sigma of the residuals
   bool fit_tube_radius = true;
+  bool fit_bend_radius = true;        // false: the bend radius stays at the initial one (a competing hypothesis)
 };
 
 struct FilletFit {
@@ -40,6 +41,10 @@ struct FilletFit {
   int iterations = 0;
   std::size_t points = 0;
 };
+
+// Sum of the Cauchy costs (scale `scale_mm`) of the surface residuals of `points` against the model: two models
+// compare on the same points and scale (a likelihood ratio under a robust noise model).
+double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm);
 
 // Least-squares fit (Levenberg-Marquardt, Cauchy-weighted) of the swept fillet to surface points, from `initial`.
 // Deterministic.
@@ -64,8 +69,11 @@ struct FilletRefineParams {
   double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
   double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error) ...
-  double max_se_fraction_vs_circle = 0.2;  // ... or to this one when it lies over 2 standard errors below the
-                                           // circle windows' radius there
+  double max_se_fraction_vs_circle = 0.5;  // ... or to this one when it lies over 2 standard errors below the
+                                           // circle windows' radius there AND the data prefer it: the same model
+                                           // held at the circle's radius fits worse by a likelihood ratio over
+                                           // min_log_likelihood_ratio (2 x cost difference / sigma^2, chi-square 1)
+  double min_log_likelihood_ratio = 100.0;
   double tube_radius_tolerance = 0.25;  // the fitted tube radius within this fraction of the measured one
   // The cable's point set S comes from a chain of straight cylinders, which cuts a tight bend's corner and so
   // leaves out the outer surface at its apex: the very points that carry the radius. With the scan given, the
