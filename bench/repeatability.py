@@ -46,7 +46,7 @@ def main():
             if e.get("kind") == "cable" and e.get("min_bend_radius_mm") is not None:
                 radii.setdefault(e["name"], []).append(e["min_bend_radius_mm"])
         print("repeat %d/%d done" % (k + 1, a.repeats), file=sys.stderr)
-    print("| cable | truth (mm) | runs | mean (mm) | spread (sd, mm) | spread (%% of mean) | mean error (%%) |")
+    print("| cable | truth (mm) | runs | mean (mm) | spread (sd, mm) | spread (% of mean) | mean error (%) |")
     print("|---|---:|---:|---:|---:|---:|---:|")
     for name in sorted(radii):
         v = radii[name]

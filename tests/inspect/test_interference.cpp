@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <random>
 
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/inspect/interference.hpp"
@@ -194,4 +195,54 @@ TEST(Interference, TinyClustersAreNoise) {
   p.clearance_mm = 5.0;
   p.resolution_mm = kRes;
   EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+}
+
+// With the sensor known (600 mm above): a veil of mixed pixels beside the cable (three rows of pixels along a depth
+// edge, each pixel at a random depth between the edge and 3 mm behind it, along its own ray) is dropped; a foreign
+// rod lying beside the cable (its upper half sampled once per pixel, as the sensor sees it) is reported.
+TEST(Interference, VeilsAreDroppedObjectsKept) {
+  const double r = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Eigen::Vector3d sensor(50, 0, 600);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> depth(0.0, 3.0);
+  for (const bool veil : {true, false}) {
+    Cloud cloud;
+    MeasuredCable A;
+    A.name = "cable_A";
+    A.element = 0;
+    A.found = true;
+    A.radius_mm = r;
+    A.chain = straight_chain({0, 0, 0}, {100, 0, 0}, r, 20);
+    A.points = add_visible_cylinder(cloud, {0, 0, 0}, {100, 0, 0}, r);
+    if (veil) {
+      for (double x = 30; x <= 45; x += kRes)
+        for (double y : {r + 2.0, r + 2.5, r + 3.0}) {
+          const Eigen::Vector3d p(x, y, 2.0);
+          cloud.points.push_back((p + depth(rng) * (p - sensor).normalized()).cast<float>());
+        }
+    } else {
+      // a rod of radius 2 mm along x, its axis 2.5 + 2 mm from the cable's surface at the cable's height
+      const double rr = 2.0, yc = r + 2.5 + rr;
+      for (double x = 30; x <= 45; x += kRes)
+        for (double y = yc - rr + 0.25; y < yc + rr; y += kRes)
+          cloud.points.emplace_back(float(x), float(y), float(std::sqrt(rr * rr - (y - yc) * (y - yc))));
+    }
+    const KdTree tree(cloud.points);
+    const SurfaceIndex rigid;
+    InterferenceParams p;
+    p.clearance_mm = 5.0;
+    p.resolution_mm = kRes;
+    p.has_sensor = true;
+    p.sensor_position = sensor;
+    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+    if (veil) {
+      EXPECT_TRUE(found.empty()) << "a veil was reported";
+    } else {
+      ASSERT_EQ(found.size(), 1u);
+      EXPECT_FALSE(found[0].with.has_value());
+      EXPECT_NEAR(found[0].min_distance_mm, 2.5, 0.4);  // the rod's nearest seen point, near its equator
+    }
+  }
 }
