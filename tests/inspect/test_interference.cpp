@@ -67,6 +67,18 @@ std::vector<Cylinder> straight_chain(const Eigen::Vector3d& a, const Eigen::Vect
   return chain;
 }
 
+// cable_A (scene element 0): 100 mm along x from the origin, measured as 20 sub-cables, its upper half in `cloud`.
+MeasuredCable straight_cable_along_x(Cloud& cloud, double r) {
+  MeasuredCable A;
+  A.name = "cable_A";
+  A.element = 0;
+  A.found = true;
+  A.radius_mm = r;
+  A.chain = straight_chain({0, 0, 0}, {100, 0, 0}, r, 20);
+  A.points = add_visible_cylinder(cloud, {0, 0, 0}, {100, 0, 0}, r);
+  return A;
+}
+
 const Interference* find_with(const std::vector<Interference>& v, const std::optional<std::string>& with) {
   for (const auto& f : v)
     if (f.with == with) return &f;
@@ -179,13 +191,7 @@ TEST(Interference, TinyClustersAreNoise) {
   Scene scene;
   add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
   Cloud cloud;
-  MeasuredCable A;
-  A.name = "cable_A";
-  A.element = 0;
-  A.found = true;
-  A.radius_mm = r;
-  A.chain = straight_chain({0, 0, 0}, {100, 0, 0}, r, 20);
-  A.points = add_visible_cylinder(cloud, {0, 0, 0}, {100, 0, 0}, r);
+  const MeasuredCable A = straight_cable_along_x(cloud, r);
   // three flying pixels 2 mm off the surface, and a few points hugging the surface (unclaimed mixed pixels)
   for (int i = 0; i < 3; ++i) cloud.points.emplace_back(50.f + 0.3f * i, 0.f, float(r + 2.0));
   for (int i = 0; i < 40; ++i) cloud.points.emplace_back(20.f + 0.5f * i, 0.f, float(r + 0.4));
@@ -209,13 +215,7 @@ TEST(Interference, VeilsAreDroppedObjectsKept) {
   std::uniform_real_distribution<double> depth(0.0, 3.0);
   for (const bool veil : {true, false}) {
     Cloud cloud;
-    MeasuredCable A;
-    A.name = "cable_A";
-    A.element = 0;
-    A.found = true;
-    A.radius_mm = r;
-    A.chain = straight_chain({0, 0, 0}, {100, 0, 0}, r, 20);
-    A.points = add_visible_cylinder(cloud, {0, 0, 0}, {100, 0, 0}, r);
+    const MeasuredCable A = straight_cable_along_x(cloud, r);
     if (veil) {
       for (double x = 30; x <= 45; x += kRes)
         for (double y : {r + 2.0, r + 2.5, r + 3.0}) {
