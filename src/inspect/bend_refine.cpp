@@ -68,19 +68,48 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return bend.profile[a].radius_mm < bend.profile[b].radius_mm; });
   std::vector<Candidate> cands;
+  auto add_candidate = [&](std::size_t i) {
+    const BendSample& p = bend.profile[i];
+    const double half = std::max(0.5 * (p.window_end_mm - p.window_start_mm) + params.leg_diameters * diameter_mm,
+                                 params.min_half_window_diameters * diameter_mm);
+    for (const Candidate& c : cands) {
+      const BendSample& q = bend.profile[c.profile];
+      if (std::abs(q.arc_mm - p.arc_mm) < std::max(0.5 * (q.window_end_mm - q.window_start_mm), c.half_window_mm / 2) +
+                                               diameter_mm)
+        return;
+    }
+    cands.push_back({i, half});
+  };
+  // Corners first: a short tight bend reads nearly straight to the circle windows (its arc is a small part of
+  // each), so it is found by how much the centreline turns within +-corner_span of a point (local maxima).
+  {
+    const double span = params.corner_span_diameters * diameter_mm;
+    std::vector<double> turn(bend.profile.size(), 0.0);
+    for (std::size_t i = 0; i < bend.profile.size(); ++i) {
+      const double s = bend.profile[i].arc_mm;
+      if (s - span < 0 || s + span > total) continue;
+      const Eigen::Vector3d a = at_arc(centerline, arc, s) - at_arc(centerline, arc, s - span);
+      const Eigen::Vector3d b = at_arc(centerline, arc, s + span) - at_arc(centerline, arc, s);
+      if (a.norm() > 0 && b.norm() > 0) turn[i] = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+    }
+    std::vector<std::size_t> peaks;
+    for (std::size_t i = 0; i < turn.size(); ++i)
+      if (turn[i] * 180.0 / M_PI >= params.corner_min_turn_deg && (i == 0 || turn[i] >= turn[i - 1]) &&
+          (i + 1 == turn.size() || turn[i] > turn[i + 1]))
+        peaks.push_back(i);
+    std::stable_sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) { return turn[a] > turn[b]; });
+    for (std::size_t i : peaks) {
+      if (int(cands.size()) >= params.max_corner_candidates) break;
+      add_candidate(i);
+    }
+  }
+  const std::size_t corners = cands.size();
   for (std::size_t i : order) {
-    if (int(cands.size()) >= params.max_candidates) break;
+    if (int(cands.size() - corners) >= params.max_candidates) break;
     const BendSample& p = bend.profile[i];
     // Far looser than the tightest window: not the minimum, even if a fit read it a few times tighter.
     if (p.radius_mm > params.max_radius_ratio * bend.profile[order.front()].radius_mm) break;
-    const double half = std::max(0.5 * (p.window_end_mm - p.window_start_mm) + params.leg_diameters * diameter_mm,
-                                 params.min_half_window_diameters * diameter_mm);
-    bool taken = false;
-    for (const Candidate& c : cands) {
-      const BendSample& q = bend.profile[c.profile];
-      if (std::abs(q.arc_mm - p.arc_mm) < 0.5 * (q.window_end_mm - q.window_start_mm) + diameter_mm) taken = true;
-    }
-    if (!taken) cands.push_back({i, half});
+    add_candidate(i);
   }
 
   if (cands.empty()) return 0;
@@ -161,7 +190,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       FilletFitParams held = params.fit;
       held.fit_bend_radius = false;
       FilletModel start = f.model;
-      start.bend_radius_mm = std::max(p.radius_mm, f.model.tube_radius_mm);
+      start.bend_radius_mm = std::clamp(p.radius_mm, f.model.tube_radius_mm, 100.0 * diameter_mm);
       const FilletFit alt = fit_fillet(pts, start, held);
       const double c = params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
       const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
