@@ -9,7 +9,7 @@ bash scripts/build.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 ctest --test-dir build --output-on-failure -j "$jobs" --timeout 900
 if [ "${EWIS_SANITIZE_TESTS:-1}" != "0" ]; then
-  sanitized="core io search filter scene sample raycast plan"
+  sanitized="core io search filter scene sample raycast plan tubes inspect"
   targets=""
   for s in $sanitized; do targets="$targets ewis_test_$s"; done
   cmake --preset asan >/dev/null
