@@ -2,16 +2,6 @@
 
 namespace ewis {
 
-namespace {
-template <class T>
-std::vector<T> pick(const std::vector<T>& v, const std::vector<std::uint32_t>& idx) {
-  std::vector<T> out;
-  if (v.empty()) return out;
-  out.reserve(idx.size());
-  for (auto i : idx) out.push_back(v[i]);
-  return out;
-}
-}  // namespace
 
 Cloud select(const Cloud& cloud, const std::vector<std::uint32_t>& indices) {
   Cloud out;
@@ -20,6 +10,15 @@ Cloud select(const Cloud& cloud, const std::vector<std::uint32_t>& indices) {
   out.colors = pick(cloud.colors, indices);
   out.intensities = pick(cloud.intensities, indices);
   for (const auto& s : cloud.scalars) out.scalars.push_back({s.name, pick(s.values, indices)});
+  return out;
+}
+
+std::vector<std::uint32_t> evenly_strided(std::size_t n, std::size_t max_count) {
+  const std::size_t m = max_count == 0 ? n : std::min(n, max_count);
+  std::vector<std::uint32_t> out(m);
+  const double step = static_cast<double>(n) / static_cast<double>(std::max<std::size_t>(m, 1));
+  for (std::size_t i = 0; i < m; ++i)
+    out[i] = static_cast<std::uint32_t>(m == n ? i : static_cast<std::size_t>(static_cast<double>(i) * step));
   return out;
 }
 

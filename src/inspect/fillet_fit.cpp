@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "ewis/core/cloud.hpp"
+
 namespace ewis {
 namespace {
 
@@ -88,13 +90,7 @@ double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p
 FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
                      const FilletFitParams& params) {
   FilletFit out;
-  std::vector<Eigen::Vector3d> pts;
-  if (params.max_points > 0 && surface_points.size() > params.max_points) {
-    const double step = double(surface_points.size()) / double(params.max_points);
-    for (std::size_t i = 0; i < params.max_points; ++i) pts.push_back(surface_points[std::size_t(double(i) * step)]);
-  } else {
-    pts = surface_points;
-  }
+  const std::vector<Eigen::Vector3d> pts = pick(surface_points, evenly_strided(surface_points.size(), params.max_points));
   const std::size_t n = pts.size();
   out.points = n;
   if (n < 3 * kParams || !(initial.bend_radius_mm > 0) || !(initial.tube_radius_mm > 0)) return out;
@@ -118,36 +114,56 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
     return s;
   };
 
-  residuals(model, res);
-  double lambda = 1e-3;
-  std::vector<double> shifted(n);
+  // Forward-difference Jacobian in the local parameterisation (steps sized to each parameter's scale); the
+  // columns of held parameters stay zero.
   Eigen::MatrixXd J(n, kParams);
-  bool converged = false;
-  double c = params.kernel_factor * robust_sigma(res);
-  for (int it = 0; it < params.max_iterations; ++it) {
-    ++out.iterations;
-    c = params.kernel_factor * robust_sigma(res);
-    // Forward-difference Jacobian in the local parameterisation (steps sized to each parameter's scale).
-    const double scale = std::max(model.tube_radius_mm, 0.5);
+  std::vector<double> shifted(n);
+  const auto held = [&](int j) { return (j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius); };
+  const auto step_scale = [](const FilletModel& m) { return std::max(m.tube_radius_mm, 0.5); };
+  const auto jacobian = [&](const FilletModel& m) {
+    const double scale = step_scale(m);
     const double h[kParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 * scale};
     for (int j = 0; j < kParams; ++j) {
-      if ((j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius)) {
+      if (held(j)) {
         J.col(j).setZero();
         continue;
       }
       Vec x = Vec::Zero();
       x[j] = h[j];
-      residuals(apply(model, x), shifted);
+      residuals(apply(m, x), shifted);
       for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
     }
+  };
+  // The Cauchy-weighted normal equations at the current residuals (and the weighted residual sums).
+  struct Normal {
     Mat H = Mat::Zero();
     Vec g = Vec::Zero();
+    double wsum = 0, wr2 = 0;
+  };
+  const auto normal_equations = [&](double scale_mm) {
+    Normal ne;
     for (std::size_t i = 0; i < n; ++i) {
-      const double w = cauchy_weight(res[i], c);
+      const double w = cauchy_weight(res[i], scale_mm);
       const Eigen::Matrix<double, 1, kParams> row = J.row(i);
-      H.noalias() += w * row.transpose() * row;
-      g.noalias() += w * res[i] * row.transpose();
+      ne.H.noalias() += w * row.transpose() * row;
+      ne.g.noalias() += w * res[i] * row.transpose();
+      ne.wsum += w;
+      ne.wr2 += w * res[i] * res[i];
     }
+    return ne;
+  };
+
+  residuals(model, res);
+  double lambda = 1e-3;
+  bool converged = false;
+  for (int it = 0; it < params.max_iterations; ++it) {
+    ++out.iterations;
+    const double c = params.kernel_factor * robust_sigma(res);
+    jacobian(model);
+    const Normal ne = normal_equations(c);
+    const Mat& H = ne.H;
+    const Vec& g = ne.g;
+    const double scale = step_scale(model);
     const double cost = cost_of(res, c);
     bool accepted = false;
     for (int tries = 0; tries < 12; ++tries) {
@@ -182,33 +198,15 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
     if (converged) break;
   }
   // Covariance of the bend radius from the weighted normal equations at the solution.
-  c = params.kernel_factor * robust_sigma(res);
   const double sigma = robust_sigma(res);
-  Mat H = Mat::Zero();
-  double wsum = 0, wr2 = 0;
-  {
-    const double scale = std::max(model.tube_radius_mm, 0.5);
-    const double h[kParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 * scale};
-    for (int j = 0; j < kParams; ++j) {
-      Vec x = Vec::Zero();
-      x[j] = h[j];
-      residuals(apply(model, x), shifted);
-      for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
-      if ((j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius)) J.col(j).setZero();
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const double w = cauchy_weight(res[i], c);
-      const Eigen::Matrix<double, 1, kParams> row = J.row(i);
-      H.noalias() += w * row.transpose() * row;
-      wsum += w;
-      wr2 += w * res[i] * res[i];
-    }
-  }
-  if (!params.fit_tube_radius) H(8, 8) = 1.0;
-  if (!params.fit_bend_radius) H(7, 7) = 1.0;
+  jacobian(model);
+  const Normal ne = normal_equations(params.kernel_factor * sigma);
+  Mat H = ne.H;
+  for (int j = 0; j < kParams; ++j)
+    if (held(j)) H(j, j) = 1.0;  // a held parameter has no variance
   out.model = model;
   out.sigma_mm = sigma;
-  out.rms_mm = wsum > 0 ? std::sqrt(wr2 / wsum) : 0.0;
+  out.rms_mm = ne.wsum > 0 ? std::sqrt(ne.wr2 / ne.wsum) : 0.0;
   const Eigen::LDLT<Mat> ldlt(H);
   const Mat cov = ldlt.solve(Mat::Identity()) * (out.rms_mm * out.rms_mm);
   // log-radius parameter: se(R) = R se(log R)

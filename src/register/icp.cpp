@@ -55,12 +55,7 @@ std::vector<std::uint32_t> all_indices(std::size_t n) {
 }
 
 std::vector<std::uint32_t> strided(const std::vector<std::uint32_t>& idx, std::size_t max_points) {
-  if (max_points == 0 || idx.size() <= max_points) return idx;
-  std::vector<std::uint32_t> out;
-  out.reserve(max_points);
-  const double step = static_cast<double>(idx.size()) / static_cast<double>(max_points);
-  for (std::size_t i = 0; i < max_points; ++i) out.push_back(idx[static_cast<std::size_t>(i * step)]);
-  return out;
+  return pick(idx, evenly_strided(idx.size(), max_points));
 }
 
 std::vector<double> distance_schedule(const IcpParams& p) {

@@ -29,15 +29,6 @@ struct Run {
   std::size_t excluded = 0;  // of the subsample
 };
 
-// Evenly strided points of the scan (in the sensor's raster order this is an even spread over the image).
-std::vector<Eigen::Vector3f> spread_subsample(const std::vector<Eigen::Vector3f>& points, std::size_t max_points) {
-  if (max_points == 0 || points.size() <= max_points) return points;
-  std::vector<Eigen::Vector3f> out(max_points);
-  const double step = static_cast<double>(points.size()) / static_cast<double>(max_points);
-  for (std::size_t i = 0; i < max_points; ++i) out[i] = points[static_cast<std::size_t>(i * step)];
-  return out;
-}
-
 // The CAD samples a pass may match: facing the sensor (when the scan is in its sensor's frame: a scanned plate's
 // top must not lock onto the CAD plate's bottom face) and inside the box of the scan at `pose` grown by
 // `margin_mm` (nothing farther can be a correspondence). Owns its k-d tree.
@@ -164,12 +155,6 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   return res;
 }
 
-std::vector<Eigen::Vector3f> gather(const std::vector<Eigen::Vector3f>& points, const std::vector<std::uint32_t>& idx) {
-  std::vector<Eigen::Vector3f> out(idx.size());
-  for (std::size_t i = 0; i < idx.size(); ++i) out[i] = points[idx[i]];
-  return out;
-}
-
 }  // namespace
 
 ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
@@ -177,7 +162,8 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
                                      const ProgressFn& progress) {
   if (scan.empty()) throw InputError("", "registration: the scan has no points");
   if (!target.rigid_tree || target.rigid.empty()) throw InputError("", "registration: empty CAD target");
-  const std::vector<Eigen::Vector3f> sub = spread_subsample(scan.points, params.max_scan_points);
+  // An even spread over the image (the scan is in raster order)
+  const std::vector<Eigen::Vector3f> sub = pick(scan.points, evenly_strided(scan.size(), params.max_scan_points));
   const double per_point = static_cast<double>(scan.size()) / static_cast<double>(sub.size());
   if (!params.icp.use_source_viewpoint)
     return register_subsample(sub, per_point, target, initial_scan_to_cad, params, progress);
@@ -187,7 +173,7 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
   std::vector<Eigen::Vector3f> clean;
   if (params.drop_veils) {
     const std::vector<std::uint32_t> off = points_off_veils(sub, params.icp.source_viewpoint, params.veil);
-    if (off.size() >= sub.size() / 2) clean = gather(sub, off);
+    if (off.size() >= sub.size() / 2) clean = pick(sub, off);
   }
   const std::vector<Eigen::Vector3f>& used = clean.empty() ? sub : clean;
   ScanToCadResult res = register_subsample(used, per_point, target, initial_scan_to_cad, params, progress);

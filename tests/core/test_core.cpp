@@ -64,3 +64,13 @@ TEST(Parallel, SelectIsOrdered) {
   ASSERT_EQ(idx.size(), 1429u);
   for (std::size_t k = 0; k < idx.size(); ++k) EXPECT_EQ(idx[k], 7 * k);
 }
+
+TEST(Cloud, EvenlyStridedAndPick) {
+  EXPECT_EQ(ewis::evenly_strided(5, 0), (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(ewis::evenly_strided(5, 9), (std::vector<std::uint32_t>{0, 1, 2, 3, 4}));
+  EXPECT_EQ(ewis::evenly_strided(10, 4), (std::vector<std::uint32_t>{0, 2, 5, 7}));  // floor(i x 2.5)
+  EXPECT_TRUE(ewis::evenly_strided(0, 3).empty());
+  const std::vector<int> v = {10, 11, 12, 13};
+  EXPECT_EQ(ewis::pick(v, {3, 0, 3}), (std::vector<int>{13, 10, 13}));
+  EXPECT_TRUE(ewis::pick(std::vector<int>{}, {0, 1}).empty());
+}

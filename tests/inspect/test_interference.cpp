@@ -67,16 +67,23 @@ std::vector<Cylinder> straight_chain(const Eigen::Vector3d& a, const Eigen::Vect
   return chain;
 }
 
-// cable_A (scene element 0): 100 mm along x from the origin, measured as 20 sub-cables, its upper half in `cloud`.
+// A measured straight cable from a to b (scene element `element`), as `segments` sub-cables, its upper half in
+// `cloud`.
+MeasuredCable straight_cable(Cloud& cloud, const std::string& name, int element, const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b, double r, int segments) {
+  MeasuredCable c;
+  c.name = name;
+  c.element = element;
+  c.found = true;
+  c.radius_mm = r;
+  c.chain = straight_chain(a, b, r, segments);
+  c.points = add_visible_cylinder(cloud, a, b, r);
+  return c;
+}
+
+// cable_A (scene element 0): 100 mm along x from the origin, as 20 sub-cables.
 MeasuredCable straight_cable_along_x(Cloud& cloud, double r) {
-  MeasuredCable A;
-  A.name = "cable_A";
-  A.element = 0;
-  A.found = true;
-  A.radius_mm = r;
-  A.chain = straight_chain({0, 0, 0}, {100, 0, 0}, r, 20);
-  A.points = add_visible_cylinder(cloud, {0, 0, 0}, {100, 0, 0}, r);
-  return A;
+  return straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {100, 0, 0}, r, 20);
 }
 
 const Interference* find_with(const std::vector<Interference>& v, const std::optional<std::string>& with) {
@@ -121,19 +128,8 @@ TEST(Interference, AnalyticScene) {
   add_mesh(scene, "far_box", make_box({100, r + 8.0, -10}, {120, r + 28.0, 10}));
   add_mesh(scene, "cable_B", make_cylinder({80, -60, 2 * r + 3.0}, {80, 60, 2 * r + 3.0}, r));
   Cloud cloud;
-  MeasuredCable A, B;
-  A.name = "cable_A";
-  A.element = 0;
-  A.found = true;
-  A.radius_mm = r;
-  A.chain = straight_chain({0, 0, 0}, {200, 0, 0}, r, 40);
-  A.points = add_visible_cylinder(cloud, {0, 0, 0}, {200, 0, 0}, r);
-  B.name = "cable_B";
-  B.element = 4;
-  B.found = true;
-  B.radius_mm = r;
-  B.chain = straight_chain({80, -60, 2 * r + 3.0}, {80, 60, 2 * r + 3.0}, r, 24);
-  B.points = add_visible_cylinder(cloud, {80, -60, 2 * r + 3}, {80, 60, 2 * r + 3}, r);
+  const MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {200, 0, 0}, r, 40);
+  const MeasuredCable B = straight_cable(cloud, "cable_B", 4, {80, -60, 2 * r + 3.0}, {80, 60, 2 * r + 3.0}, r, 24);
   add_top_face(cloud, {20, r + 2.0, -10}, {40, r + 22.0, 3});  // nearest seen point: 2.6 mm
   add_top_face(cloud, {150, r + 1.0, -6}, {160, r + 10.0, 6});
   add_top_face(cloud, {100, r + 8.0, -10}, {120, r + 28.0, 10});

@@ -32,8 +32,22 @@ struct Cloud {
   bool has_intensities() const { return !intensities.empty(); }
 };
 
+// The values at `indices`, in that order (empty stays empty).
+template <class T>
+std::vector<T> pick(const std::vector<T>& values, const std::vector<std::uint32_t>& indices) {
+  std::vector<T> out;
+  if (values.empty()) return out;
+  out.reserve(indices.size());
+  for (auto i : indices) out.push_back(values[i]);
+  return out;
+}
+
 // The points (and every attribute) at `indices`, in that order.
 Cloud select(const Cloud& cloud, const std::vector<std::uint32_t>& indices);
+
+// At most max_count indices of [0, n), evenly strided (index floor(i x n / max_count)); all of them when n <=
+// max_count or max_count is 0. In a sensor's raster order this is an even spread over the image.
+std::vector<std::uint32_t> evenly_strided(std::size_t n, std::size_t max_count);
 
 // Axis-aligned bounds; false when the cloud is empty.
 bool bounds(const std::vector<Eigen::Vector3f>& points, Eigen::Vector3f& min_out, Eigen::Vector3f& max_out);

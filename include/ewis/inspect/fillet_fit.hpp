@@ -7,7 +7,12 @@
 // the surface leaves the two legs' corner (R (1 / cos(turn / 2) - 1), a fraction of a mm), which hundreds of
 // surface points measure and a dozen noisy chain joints do not.
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
+
+#include "ewis/core/cloud.hpp"
+#include "ewis/inspect/bend_radius.hpp"
+#include "ewis/search/kdtree.hpp"
 
 namespace ewis {
 
@@ -51,15 +56,7 @@ double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const Fill
 FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
                      const FilletFitParams& params = {});
 
-}  // namespace ewis
 
-#include <cstdint>
-
-#include "ewis/core/cloud.hpp"
-#include "ewis/inspect/bend_radius.hpp"
-#include "ewis/search/kdtree.hpp"
-
-namespace ewis {
 
 struct FilletRefineParams {
   bool enabled = true;
