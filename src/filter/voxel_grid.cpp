@@ -14,6 +14,7 @@
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
+#include "ewis/core/scratch.hpp"
 
 namespace ewis {
 namespace {
@@ -41,7 +42,7 @@ Bounds finite_bounds(const std::vector<Eigen::Vector3f>& pts) {
 // Stable LSD radix sort of `v` on bits [lo_bit, lo_bit + bits), in passes of at most 11 bits. Each pass counts
 // digits per fixed block, turns the counts into block-ordered offsets and scatters the blocks in parallel; a
 // stable sort has one result, so neither the blocks nor the thread count can change it. `tmp` is scratch.
-void radix_sort(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp, int lo_bit, int bits) {
+void radix_sort(ScratchArray<std::uint64_t>& v, int lo_bit, int bits) {
   const std::size_t n = v.size();
   if (n < 2 || bits <= 0) return;
   const int passes = (bits + 10) / 11;
@@ -50,7 +51,7 @@ void radix_sort(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp, 
   const std::size_t grain = std::max<std::size_t>(std::size_t{1} << 16, (n + 63) / 64);
   const std::size_t blocks = (n + grain - 1) / grain;
   std::vector<std::uint32_t> offsets(blocks * radix);
-  tmp.resize(n);
+  ScratchArray<std::uint64_t> tmp(n);
   for (int p = 0; p < passes; ++p) {
     const int shift = lo_bit + p * width;
     const std::uint64_t mask = radix - 1;
@@ -77,7 +78,7 @@ void radix_sort(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp, 
 // One output point per run [starts[v], starts[v+1]) of the sorted order; index_at(j) is the input index at sorted
 // position j (ascending within a run). Sums run in index order, so every value is independent of the threads.
 template <class IndexAt>
-void average_runs(const Cloud& cloud, const std::vector<std::uint32_t>& starts, const IndexAt& index_at,
+void average_runs(const Cloud& cloud, const ScratchArray<std::uint32_t>& starts, const IndexAt& index_at,
                   VoxelGridResult& result) {
   const std::size_t n = cloud.size(), m = starts.size() - 1;
   Cloud& out = result.cloud;
@@ -134,7 +135,7 @@ void average_runs(const Cloud& cloud, const std::vector<std::uint32_t>& starts, 
 // First sorted positions of each run of equal keys among [0, end), plus `end`: counted per fixed block, then
 // written at the block's offset (two reads of the keys, no per-block vectors).
 template <class KeyAt>
-std::vector<std::uint32_t> run_starts(std::size_t end, const KeyAt& key_at) {
+ScratchArray<std::uint32_t> run_starts(std::size_t end, const KeyAt& key_at) {
   const std::size_t grain = 1 << 16, blocks = (end + grain - 1) / grain;
   std::vector<std::uint32_t> first(blocks + 1, 0);
   const auto is_start = [&](std::size_t j) { return j == 0 || key_at(j) != key_at(j - 1); };
@@ -144,13 +145,13 @@ std::vector<std::uint32_t> run_starts(std::size_t end, const KeyAt& key_at) {
     first[b / grain + 1] = c;
   });
   for (std::size_t k = 0; k < blocks; ++k) first[k + 1] += first[k];
-  std::vector<std::uint32_t> starts(first[blocks] + 1);
+  ScratchArray<std::uint32_t> starts(first[blocks] + 1);
   parallel_blocks(end, grain, [&](std::size_t b, std::size_t e) {
     std::uint32_t at = first[b / grain];
     for (std::size_t j = b; j < e; ++j)
       if (is_start(j)) starts[at++] = static_cast<std::uint32_t>(j);
   });
-  starts.back() = static_cast<std::uint32_t>(end);
+  starts[starts.size() - 1] = static_cast<std::uint32_t>(end);
   return starts;
 }
 
@@ -194,18 +195,17 @@ VoxelGridResult voxel_downsample(const Cloud& cloud, double voxel_mm) {
   if (key_bits + index_bits <= 64) {
     // One 64-bit word per point, key above index: sorting on the key bits alone keeps the indices ascending
     // within a voxel (stable sort of an index-ordered array), and the sorted words carry the indices.
-    std::vector<std::uint64_t> packed(n), tmp;
+    ScratchArray<std::uint64_t> packed(n);
     parallel_blocks(n, 1 << 14, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
         const auto& p = cloud.points[i];
         packed[i] = ((is_finite(p) ? key_of(p) : non_finite) << index_bits) | i;
       }
     });
-    radix_sort(packed, tmp, index_bits, key_bits);
-    tmp = {};
+    radix_sort(packed, index_bits, key_bits);
     std::size_t finite_end = n;
     while (finite_end > 0 && (packed[finite_end - 1] >> index_bits) == non_finite) --finite_end;
-    const std::vector<std::uint32_t> starts =
+    const ScratchArray<std::uint32_t> starts =
         run_starts(finite_end, [&](std::size_t j) { return packed[j] >> index_bits; });
     const std::uint64_t index_mask = (std::uint64_t{1} << index_bits) - 1;
     average_runs(cloud, starts, [&](std::size_t j) { return static_cast<std::uint32_t>(packed[j] & index_mask); },
@@ -220,7 +220,7 @@ VoxelGridResult voxel_downsample(const Cloud& cloud, double voxel_mm) {
     tbb::parallel_sort(keyed.begin(), keyed.end());
     std::size_t finite_end = n;
     while (finite_end > 0 && keyed[finite_end - 1].first == non_finite) --finite_end;
-    const std::vector<std::uint32_t> starts = run_starts(finite_end, [&](std::size_t j) { return keyed[j].first; });
+    const ScratchArray<std::uint32_t> starts = run_starts(finite_end, [&](std::size_t j) { return keyed[j].first; });
     average_runs(cloud, starts, [&](std::size_t j) { return keyed[j].second; }, result);
   }
   return result;

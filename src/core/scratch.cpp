@@ -1,0 +1,45 @@
+#include "ewis/core/scratch.hpp"
+
+#include <sys/mman.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+
+namespace ewis::scratch_detail {
+namespace {
+constexpr std::size_t kMapFrom = std::size_t{1} << 20;
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+std::size_t mapped_size(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+}
+
+void* allocate(std::size_t bytes) {
+  if (bytes < kMapFrom) {
+    if (void* p = std::malloc(bytes)) return p;
+    throw std::bad_alloc();
+  }
+  // Map one huge page more than needed and unmap the slack on both sides, so the array starts on a 2 MiB
+  // boundary and every page of it can be a huge one.
+  const std::size_t size = mapped_size(bytes);
+  void* raw = mmap(nullptr, size + kHugePage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (raw == MAP_FAILED) throw std::bad_alloc();
+  const auto at = reinterpret_cast<std::uintptr_t>(raw);
+  const std::uintptr_t aligned = (at + kHugePage - 1) / kHugePage * kHugePage;
+  if (aligned > at) munmap(raw, aligned - at);
+  if (const std::size_t tail = at + size + kHugePage - (aligned + size)) munmap(reinterpret_cast<void*>(aligned + size), tail);
+  void* p = reinterpret_cast<void*>(aligned);
+#ifdef MADV_HUGEPAGE
+  madvise(p, size, MADV_HUGEPAGE);  // a hint: without THP it is refused and 4 KiB pages are used
+#endif
+  return p;
+}
+
+void release(void* p, std::size_t bytes) noexcept {
+  if (!p) return;
+  if (bytes < kMapFrom)
+    std::free(p);
+  else
+    munmap(p, mapped_size(bytes));
+}
+
+}  // namespace ewis::scratch_detail
