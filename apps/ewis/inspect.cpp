@@ -40,7 +40,7 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
     const InspectionPlan plan = read_plan(opt->plan);
     const Scene scene = load_scene(opt->cad);
     check_plan_against_scene(plan, scene, opt->plan);
-    const CloudFile scan = read_cloud(opt->scan, unit);
+    CloudFile scan = read_cloud(opt->scan, unit);
     std::optional<Pose> pose;
     if (!opt->pose.empty()) pose = read_pose(opt->pose);
     if (scan.cloud.empty()) throw InputError(opt->scan, "no finite points");
@@ -49,7 +49,7 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
     log(common, "loaded " + std::to_string(scan.cloud.size()) + " scan points, " +
                     std::to_string(scene.elements.size()) + " CAD elements");
 
-    const InspectionResult result = inspect(scene, plan, scan.cloud, pose, InspectParams{}, make_progress(common));
+    const InspectionResult result = inspect(scene, plan, std::move(scan.cloud), pose, InspectParams{}, make_progress(common));
     const std::string json = report_to_json(result, plan);
 
     const auto tw = clock::now();

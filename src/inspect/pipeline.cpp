@@ -49,7 +49,7 @@ void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, co
   }
 }
 
-InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const Cloud& scan,
+InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud scan,
                          const std::optional<Pose>& initial_scan_to_cad, const InspectParams& params,
                          const ProgressFn& progress) {
   InspectionResult res;
@@ -62,14 +62,17 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const C
 
   // paper 4.1.1: radius outlier removal with parameters derived from the resolution.
   report("filter", 0.0);
-  Cloud filtered;
+  std::vector<std::uint32_t> kept;
   {
     const KdTree tree(scan.points);
-    const RadiusOutlierResult ror = remove_radius_outliers(tree, params.outliers);
+    RadiusOutlierResult ror = remove_radius_outliers(tree, params.outliers);
     res.outlier_radius_mm = ror.radius_mm;
     res.outlier_min_neighbors = ror.min_neighbors;
-    filtered = select(scan, ror.kept);
-  }
+    kept = std::move(ror.kept);
+  }  // the scan's tree is freed before the copy
+  Cloud filtered = select(scan, kept);
+  scan = Cloud{};
+  kept = {};
   res.filtered_points = filtered.size();
   if (filtered.size() < 10) throw ProcessingError("fewer than 10 scan points are left after outlier removal");
   report("filter", 1.0);

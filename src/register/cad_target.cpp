@@ -32,7 +32,6 @@ CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const
   t.rigid = std::move(rs.cloud);
   t.rigid_element = std::move(rs.element);
   if (t.rigid.empty()) throw InputError("", "registration: sampling the rigid CAD elements gave no points");
-  t.rigid_tree = std::make_unique<KdTree>(t.rigid.points);
   if (!cables.empty()) {
     sp.elements = cables;
     sp.seed = params.seed + 1;

@@ -136,8 +136,9 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
     for (std::size_t i = 0; i < scan.size(); i += stride) probe.push_back(static_cast<std::uint32_t>(i));
     const double tight = std::max(0.4 * g.voxel_mm, 3.0);
     std::vector<std::pair<double, std::size_t>> ranked;
+    const KdTree rigid_tree(target.rigid.points);
     for (std::size_t i = 0; i < g.candidates.size(); ++i)
-      ranked.emplace_back(evaluate_registration(scan, target.rigid, *target.rigid_tree,
+      ranked.emplace_back(evaluate_registration(scan, target.rigid, rigid_tree,
                                                 g.candidates[i].source_to_target, tight, probe)
                               .fitness,
                           i);
@@ -161,7 +162,7 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
                                      const std::optional<Pose>& initial_scan_to_cad, const ScanToCadParams& params,
                                      const ProgressFn& progress) {
   if (scan.empty()) throw InputError("", "registration: the scan has no points");
-  if (!target.rigid_tree || target.rigid.empty()) throw InputError("", "registration: empty CAD target");
+  if (target.rigid.empty()) throw InputError("", "registration: empty CAD target");
   // An even spread over the image (the scan is in raster order)
   const std::vector<Eigen::Vector3f> sub = pick(scan.points, evenly_strided(scan.size(), params.max_scan_points));
   const double per_point = static_cast<double>(scan.size()) / static_cast<double>(sub.size());

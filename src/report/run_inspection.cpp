@@ -20,14 +20,14 @@ InspectionRun run_inspection(const InspectionInputs& in, const std::string& out_
   run.plan = read_plan(in.plan);
   const Scene scene = load_scene(in.cad);
   check_plan_against_scene(run.plan, scene, in.plan);
-  const CloudFile scan = read_cloud(in.scan, in.scan_unit);
+  CloudFile scan = read_cloud(in.scan, in.scan_unit);
   std::optional<Pose> pose;
   if (!in.pose.empty()) pose = read_pose(in.pose);
   if (scan.cloud.empty()) throw InputError(in.scan, "no finite points");
   const auto t1 = clock::now();
   run.load_seconds = seconds(t0, t1);
 
-  run.result = inspect(scene, run.plan, scan.cloud, pose, params.inspect, progress);
+  run.result = inspect(scene, run.plan, std::move(scan.cloud), pose, params.inspect, progress);
   run.report_json = report_to_json(run.result, run.plan);
   const auto t2 = clock::now();
   run.inspect_seconds = seconds(t1, t2);

@@ -129,18 +129,26 @@ KdTree::KdTree(const std::vector<Eigen::Vector3f>& points) : impl_(std::make_uni
   for (std::size_t j = 0; j < m.ids.size(); ++j) m.sorted[j] = points[m.ids[j]];
   m.adaptor = {m.sorted.data(), m.sorted.size()};
   m.tree = std::make_unique<Tree>(3, m.adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize));
-  // Permute into leaf order; the nodes refer to positions in vAcc, not to points, so they stay valid.
+  // Permute into leaf order (slot j takes the point at vAcc[j]); the nodes refer to positions in vAcc, not to
+  // points, so they stay valid once vAcc is the identity. In place, cycle by cycle, with vAcc[k] == k marking
+  // a finished slot: no second copy of the points (16 bytes a point less at the build's peak).
   auto& vacc = m.tree->vAcc;
-  std::vector<Eigen::Vector3f> by_leaf(vacc.size());
-  std::vector<std::uint32_t> ids_by_leaf(vacc.size());
-  for (std::size_t j = 0; j < vacc.size(); ++j) {
-    by_leaf[j] = m.sorted[vacc[j]];
-    ids_by_leaf[j] = m.ids[vacc[j]];
-    vacc[j] = static_cast<std::uint32_t>(j);
+  for (std::size_t start = 0; start < vacc.size(); ++start) {
+    if (vacc[start] == start) continue;
+    const Eigen::Vector3f first_point = m.sorted[start];
+    const std::uint32_t first_id = m.ids[start];
+    std::size_t k = start;
+    while (vacc[k] != start) {
+      const std::size_t from = vacc[k];
+      m.sorted[k] = m.sorted[from];
+      m.ids[k] = m.ids[from];
+      vacc[k] = static_cast<std::uint32_t>(k);
+      k = from;
+    }
+    m.sorted[k] = first_point;
+    m.ids[k] = first_id;
+    vacc[k] = static_cast<std::uint32_t>(k);
   }
-  m.sorted.swap(by_leaf);
-  m.ids.swap(ids_by_leaf);
-  m.adaptor.data = m.sorted.data();
 }
 
 KdTree::~KdTree() = default;

@@ -112,9 +112,10 @@ struct InspectionResult {
 // InputError(plan_path, ...) otherwise.
 void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, const std::string& plan_path);
 
-// The whole inspection. `scan` is in the sensor's frame (mm). Throws ProcessingError when registration fails
-// or the filtered scan is empty. Deterministic for any thread count.
-InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, const Cloud& scan,
+// The whole inspection. `scan` is in the sensor's frame (mm); it is taken by value so that a caller that moves
+// it in lets it go right after outlier removal (peak memory, issue 8). Throws ProcessingError when registration
+// fails or the filtered scan is empty. Deterministic for any thread count.
+InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud scan,
                          const std::optional<Pose>& initial_scan_to_cad, const InspectParams& params = {},
                          const ProgressFn& progress = {});
 

@@ -26,12 +26,13 @@ struct CadTargetParams {
   double cable_margin_mm = 3.0;     // exclusion zone around a cable's CAD surface
 };
 
-// Owns the sampled clouds and their k-d trees (the trees reference the clouds: not copyable).
+// Owns the sampled clouds and the cables' k-d tree (it references `cables`: not copyable). The rigid samples
+// get no tree here: each registration pass builds one over the cropped view it uses (scan_to_cad.cpp), and
+// only the global search builds one over all of them (a whole-CAD tree was ~25 MB of inspect's peak).
 struct CadTarget {
   Cloud rigid;                               // rigid samples with triangle normals
   std::vector<std::uint32_t> rigid_element;  // element index per rigid sample
   Cloud cables;                              // cable samples (exclusion zone only)
-  std::unique_ptr<KdTree> rigid_tree;
   std::unique_ptr<KdTree> cable_tree;        // null when the plan has no cable in the scene
   double spacing_mm = 1.0;
   double cable_margin_mm = 3.0;
