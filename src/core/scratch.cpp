@@ -1,10 +1,23 @@
 #include "ewis/core/scratch.hpp"
 
 #include <sys/mman.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+
+namespace ewis {
+
+void return_free_heap_to_os() {
+#ifdef __GLIBC__
+  malloc_trim(0);
+#endif
+}
+
+}  // namespace ewis
 
 namespace ewis::scratch_detail {
 namespace {

@@ -12,6 +12,7 @@
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
+#include "ewis/core/scratch.hpp"
 #include "ewis/sample/mesh_sampling.hpp"
 #include "ewis/search/kdtree.hpp"
 
@@ -73,6 +74,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   Cloud filtered = select(scan, kept);
   scan = Cloud{};
   kept = {};
+  return_free_heap_to_os();  // the scan's tree: peak memory is set by the phases, not by what they left
   res.filtered_points = filtered.size();
   if (filtered.size() < 10) throw ProcessingError("fewer than 10 scan points are left after outlier removal");
   report("filter", 1.0);
@@ -102,6 +104,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   res.sensor_position = res.scan_to_cad.translation();
   res.optical_axis = res.scan_to_cad.linear().col(2).normalized();
   report("register", 1.0);
+  return_free_heap_to_os();  // the CAD target and its views
   clock.lap("register");
 
   // Everything from here on is in CAD coordinates.
@@ -310,6 +313,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   const SurfaceIndex cable_cad(scene, cable_elements);
   const Eigen::Vector3d sensor = res.sensor_position;
   const double hidden_margin = params.hidden_margin_mm;
+  // One BVH of the whole scene for every cable: a hit on the cable being checked is passed through.
+  return_free_heap_to_os();
+  const Raycaster caster(scene);
   for (std::size_t c = 0; c < res.cables.size(); ++c) {
     report("interference", double(c) / double(res.cables.size()));
     CableInspection& ci = res.cables[c];
@@ -321,13 +327,11 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     ip.resolution_mm = res.resolution_mm;
     ip.has_sensor = true;
     ip.sensor_position = res.sensor_position;
-    // Every CAD element but this cable may hide a point from the sensor (then it is a mixed pixel).
-    std::vector<bool> mask(scene.elements.size(), true);
-    mask[ci.element] = false;
-    const Raycaster caster(scene, mask);
     InterferenceContext context;
     context.cable_cad = &cable_cad;
-    context.hidden_by_rigid = [&caster, sensor, hidden_margin](const Eigen::Vector3d& p) {
+    // Every CAD element but this cable may hide a point from the sensor (then it is a mixed pixel).
+    const auto own = static_cast<std::uint32_t>(ci.element);
+    context.hidden_by_rigid = [&caster, sensor, hidden_margin, own](const Eigen::Vector3d& p) {
       const Eigen::Vector3d d = p - sensor;
       const double len = d.norm();
       if (!(len > hidden_margin)) return false;
@@ -335,13 +339,23 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       ray.origin = sensor.cast<float>();
       ray.direction = (d / len).cast<float>();
       ray.tmax_mm = float(len - hidden_margin);
-      return caster.occluded(ray);
+      for (int crossing = 0; crossing < 16; ++crossing) {
+        const Hit h = caster.cast(ray);
+        if (!h.hit()) return false;
+        if (h.element != own) return true;
+        const float step = h.distance_mm + 1e-3f;  // through this cable's surface, on along the same line
+        ray.origin += ray.direction * step;
+        ray.tmax_mm -= step;
+        if (!(ray.tmax_mm > 0)) return false;
+      }
+      return true;
     };
     ci.interferences = find_interferences(cloud, tree, scene, rigid_surfaces, measured, c, ignore, ip, context);
     ci.clearance_ok = ci.interferences.empty();
   }
   report("interference", 1.0);
   clock.lap("interference");
+  return_free_heap_to_os();  // before the caller writes reports and pictures
 
   if (params.list_rigid) {
     for (const PlanElement& e : plan.elements) {

@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "ewis/core/error.hpp"
+#include "ewis/core/scratch.hpp"
 #include "ewis/scene/scene.hpp"
 #include "read_ply_mesh.hpp"
 
@@ -121,6 +122,35 @@ Scene load_ply(const std::string& path, std::size_t* dropped_degenerate) {
   return scene;
 }
 
+// Any other format, through Assimp: one element per object name (merged), triangles only.
+Scene import_with_assimp(const std::string& path, const std::filesystem::path& p, std::size_t* dropped_degenerate) {
+  // No DefaultLogger is created, so Assimp logs to its NullLogger (silent).
+  Assimp::Importer importer;
+  // Triangulate polygons; JoinIdenticalVertices gives indexed meshes. Deliberately NOT OptimizeMeshes,
+  // OptimizeGraph or PreTransformVertices: they merge meshes and lose the object names (DESIGN.md).
+  const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  if (!ai) throw InputError(path, std::string("cannot import mesh: ") + importer.GetErrorString());
+  if (!ai->mRootNode) throw InputError(path, "mesh file has no scene graph");
+
+  Collector collect;
+  collect.ai = ai;
+  collect.file_stem = p.stem().string();
+  collect.file_name = p.filename().string();
+  collect.walk();
+
+  Scene scene;
+  for (const std::string& name : collect.order) {
+    const Part& part = collect.parts[name];
+    if (part.triangles.empty()) continue;
+    add_element(scene, name, part.vertices, part.triangles);
+  }
+  if (dropped_degenerate) *dropped_degenerate = collect.degenerate;
+  if (scene.triangles.empty())
+    throw InputError(path, collect.degenerate > 0 ? "mesh has only degenerate (zero-area) triangles"
+                                                  : "mesh has no triangles");
+  return scene;
+}
+
 }  // namespace
 
 Scene load_scene(const std::string& path, std::size_t* dropped_degenerate) {
@@ -150,30 +180,8 @@ Scene load_scene(const std::string& path, std::size_t* dropped_degenerate) {
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (magic == "ply" || ext == ".ply") return load_ply(path, dropped_degenerate);
 
-  // No DefaultLogger is created, so Assimp logs to its NullLogger (silent).
-  Assimp::Importer importer;
-  // Triangulate polygons; JoinIdenticalVertices gives indexed meshes. Deliberately NOT OptimizeMeshes,
-  // OptimizeGraph or PreTransformVertices: they merge meshes and lose the object names (DESIGN.md).
-  const aiScene* ai = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
-  if (!ai) throw InputError(path, std::string("cannot import mesh: ") + importer.GetErrorString());
-  if (!ai->mRootNode) throw InputError(path, "mesh file has no scene graph");
-
-  Collector collect;
-  collect.ai = ai;
-  collect.file_stem = p.stem().string();
-  collect.file_name = p.filename().string();
-  collect.walk();
-
-  Scene scene;
-  for (const std::string& name : collect.order) {
-    const Part& part = collect.parts[name];
-    if (part.triangles.empty()) continue;
-    add_element(scene, name, part.vertices, part.triangles);
-  }
-  if (dropped_degenerate) *dropped_degenerate = collect.degenerate;
-  if (scene.triangles.empty())
-    throw InputError(path, collect.degenerate > 0 ? "mesh has only degenerate (zero-area) triangles"
-                                                  : "mesh has no triangles");
+  Scene scene = import_with_assimp(path, p, dropped_degenerate);
+  return_free_heap_to_os();  // Assimp's many small transient blocks (core/scratch.hpp)
   return scene;
 }
 
