@@ -136,10 +136,9 @@ bool gauss_newton_rounds(const std::vector<Eigen::Vector3d>& points, const Cylin
         Eigen::Matrix<double, 5, 1> J;
         J << -nx * s, -ny * s, -nx * z * s, -ny * z * s, -s;
         const double e = s * (d - rho);
-        A.selfadjointView<Eigen::Lower>().rankUpdate(J);
+        A.noalias() += J * J.transpose();  // a fixed 5x5 outer product, inlined (rankUpdate: a library call)
         b -= J * e;
       }
-      A = A.selfadjointView<Eigen::Lower>();
       A.diagonal().array() += 1e-9 * (A.trace() + 1.0);
       Eigen::Matrix<double, 5, 1> delta = Eigen::Matrix<double, 5, 1>::Zero();
       delta.head(np) = A.topLeftCorner(np, np).ldlt().solve(b.head(np));
