@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -44,28 +46,53 @@ void write_coloured_ply(const std::string& path, const ewis::Cloud& cloud, const
     out << cloud.points[i].x() << ' ' << cloud.points[i].y() << ' ' << cloud.points[i].z() << (on[i] ? " 230 25 75\n" : " 128 128 128\n");
 }
 
-class TreeTrunk : public ::testing::TestWithParam<const char*> {};
+// How the seed at the trunk's base is found: the segmented AdTree trees start at the trunk, so the middle of
+// the slice 0.3-0.6 m above the lowest point is on it; the maple scan includes the ground and undergrowth, so
+// there the seed is the centroid of the densest 0.3 m column 1-4 m above the lowest point (a trunk is the
+// tallest dense vertical run of points near the ground).
+enum class SeedRule { BaseSlice, DensestColumn };
+struct TreeCase {
+  const char* file;  // under realdata/: x y z in metres (extra columns ignored)
+  SeedRule seed;
+};
+
+Vector3d trunk_seed(const ewis::Cloud& cloud, SeedRule rule) {
+  float zmin = 1e30f;
+  for (const auto& p : cloud.points) zmin = std::min(zmin, p.z());
+  const bool slice = rule == SeedRule::BaseSlice;
+  const double z0 = zmin + (slice ? 300.0 : 1000.0), z1 = zmin + (slice ? 600.0 : 4000.0);
+  std::map<std::pair<long, long>, std::pair<Vector3d, int>> columns;  // 300 mm cells in x-y
+  for (const auto& p : cloud.points) {
+    if (p.z() < z0 || p.z() > z1) continue;
+    const auto key = slice ? std::make_pair(0L, 0L)
+                           : std::make_pair(long(std::floor(p.x() / 300.0)), long(std::floor(p.y() / 300.0)));
+    auto& c = columns.try_emplace(key, Vector3d::Zero(), 0).first->second;
+    c.first += p.cast<double>();
+    ++c.second;
+  }
+  std::pair<Vector3d, int> best{Vector3d::Zero(), 0};
+  for (const auto& [key, c] : columns)
+    if (c.second > best.second) best = c;
+  return best.second > 10 ? Vector3d(best.first / best.second) : Vector3d::Constant(std::nan(""));
+}
+
+class TreeTrunk : public ::testing::TestWithParam<TreeCase> {};
 
 TEST_P(TreeTrunk, FollowedFromTheBaseUpToTheFirstFork) {
-  const std::string name = GetParam();
-  const std::string path = std::string(EWIS_REALDATA_DIR) + "/adtree_trees/" + name + ".xyz";
+  const std::string file = GetParam().file;
+  const std::string name = std::filesystem::path(file).stem().string();
+  const std::string path = std::string(EWIS_REALDATA_DIR) + "/" + file;
   ewis::Cloud raw;
   if (!read_xyz_m(path, raw)) GTEST_SKIP() << path << " not available";
   const ewis::KdTree raw_tree(raw.points);
   const ewis::Cloud cloud = ewis::select(raw, ewis::remove_radius_outliers(raw_tree, {}).kept);
   const ewis::KdTree tree(cloud.points);
-  // seed: the middle of the trunk slice 0.3-0.6 m above the lowest point
-  float zmin = 1e30f;
-  for (const auto& p : cloud.points) zmin = std::min(zmin, p.z());
-  Vector3d sum = Vector3d::Zero();
-  int n = 0;
+  const Vector3d seed = trunk_seed(cloud, GetParam().seed);
+  ASSERT_TRUE(seed.allFinite()) << "no points where the trunk's base should be";
+  // the ground at the trunk: the lowest point within 1.5 m of the seed across (terrain is not flat)
+  double zmin = 1e30;
   for (const auto& p : cloud.points)
-    if (p.z() >= zmin + 300 && p.z() <= zmin + 600) {
-      sum += p.cast<double>();
-      ++n;
-    }
-  ASSERT_GT(n, 10);
-  const Vector3d seed = sum / n;
+    if ((p.cast<double>() - seed).head<2>().norm() < 1500.0) zmin = std::min(zmin, double(p.z()));
   const ewis::TubeTrace t = ewis::trace_tube(cloud, tree, seed, {});
   ASSERT_TRUE(t.found) << name;
   const Vector3d a = t.centerline.front(), b = t.centerline.back();
@@ -75,7 +102,7 @@ TEST_P(TreeTrunk, FollowedFromTheBaseUpToTheFirstFork) {
   EXPECT_GT(t.radius_mm, 30.0);
   EXPECT_LT(t.radius_mm, 500.0);
   EXPECT_GT(t.length_mm, 500.0);
-  // a trunk: mostly upright, from near the ground
+  // a trunk: mostly upright, from near the ground (the data under the maple's undergrowth start ~0.5 m up)
   EXPECT_GT(std::abs(b.z() - a.z()) / (b - a).norm(), 0.7);
   EXPECT_LT(std::min(a.z(), b.z()), zmin + 700.0);
   const fs::path dir = fs::path(EWIS_TEST_TMP) / "tubes";
@@ -83,7 +110,13 @@ TEST_P(TreeTrunk, FollowedFromTheBaseUpToTheFirstFork) {
   write_coloured_ply((dir / (name + "_trunk.ply")).string(), cloud, t.points);
 }
 
-INSTANTIATE_TEST_SUITE_P(AdTree, TreeTrunk, ::testing::Values("tree1", "tree7", "tree13", "tree33", "Lille_11"));
+INSTANTIATE_TEST_SUITE_P(RealTrees, TreeTrunk,
+                         ::testing::Values(TreeCase{"adtree_trees/tree1.xyz", SeedRule::BaseSlice},
+                                           TreeCase{"adtree_trees/tree7.xyz", SeedRule::BaseSlice},
+                                           TreeCase{"adtree_trees/tree13.xyz", SeedRule::BaseSlice},
+                                           TreeCase{"adtree_trees/tree33.xyz", SeedRule::BaseSlice},
+                                           TreeCase{"adtree_trees/Lille_11.xyz", SeedRule::BaseSlice},
+                                           TreeCase{"cylsegment_tree/maple_tree_demo.txt", SeedRule::DensestColumn}));
 
 // The mug of PCL's cylinder-segmentation tutorial: body radius 39.6 mm (+- 2). Its PCD is LZF-compressed,
 // so this goes through the CLI (skipped when the binary has not been built).
