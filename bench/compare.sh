@@ -3,7 +3,8 @@
 # Installs the peers (apt), builds bench/peers apart from the main build (build-peers/), makes the inputs with the
 # virtual scanner, runs every step of each side REPEAT times in turn and writes the table of medians into
 # bench/RESULTS.md (between the "compare" markers). Never run by the tests or CI.
-# Usage: bench/compare.sh [REPEAT]   (default 5)
+# Usage: bench/compare.sh [REPEAT]   (default 5). Single rows: python3 bench/compare_table.py --bin build-peers/bin
+# --data build-peers/data --repeat 1 --results /tmp/compare_test.md --only icp,cylinder (after one compare.sh run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repeat=${1:-5}
@@ -23,4 +24,6 @@ if [ ! -f "$data/scene/scan.ply" ]; then
 fi
 "$bin/ewis_steps" convert-pcd "$data/scene/scan.ply" "$data/scan_compressed.pcd" >/dev/null
 "$bin/ewis" filter --scan "$data/scene/scan.ply" --out "$data/filtered.ply" --quiet >/dev/null
+# the shared inputs of the ICP, cylinder, ray-casting, chain and inspection rows (bench/RESULTS.md notes)
+"$bin/ewis_steps" prepare "$data/scene" "$data/filtered.ply" "$data"
 python3 bench/compare_table.py --bin "$bin" --data "$data" --repeat "$repeat" --results bench/RESULTS.md
