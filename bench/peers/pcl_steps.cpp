@@ -53,12 +53,15 @@ static Eigen::Matrix4d align(const Cloud& source_xyz, const NormalCloud::Ptr& ta
   Icp icp;
   icp.setInputSource(source);
   icp.setInputTarget(target);
+  pcl::search::KdTree<pcl::PointNormal>::Ptr tree(new pcl::search::KdTree<pcl::PointNormal>);
+  tree->setInputCloud(target);
+  icp.setSearchMethodTarget(tree, true);  // one target k-d tree for all stages (align() would rebuild it)
   icp.setMaximumIterations(steps::kIcpIterationsPerStage);
   icp.setTransformationEpsilon(1e-8);  // the update-size test of ewis: 1e-4 mm (squared here) ...
   icp.setTransformationRotationEpsilon(std::cos(1e-4 * M_PI / 180.0));  // ... and 1e-4 deg
   Eigen::Matrix4f pose = init.cast<float>();
   NormalCloud aligned;
-  for (double d : steps::icp_schedule_mm(first_distance_mm)) {  // one target k-d tree for all stages
+  for (double d : steps::icp_schedule_mm(first_distance_mm)) {
     icp.setMaxCorrespondenceDistance(d);
     icp.align(aligned, pose);
     pose = icp.getFinalTransformation();

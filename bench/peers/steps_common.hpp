@@ -36,7 +36,7 @@ inline int usage(const char* prog) {
                "  icp SOURCE TARGET INIT_POSE TRUTH_POSE (point-to-plane; TARGET has normals)\n"
                "  cylinder TUBE_PLY                      (straight tube of steps::kTube; ewis, PCL)\n"
                "  raycast MESH CAMERA_POSE               (1280x1024, hfov 58 deg; ewis, Open3D)\n"
-               "  chain SCAN CAD_CABLE_PLY RADIUS        (one cable traced from its CAD samples; ewis, PCL)\n"
+               "  chain SCAN CAD_CABLE_PLY RADIUS POSE   (one cable from its CAD samples, CAD frame; ewis, PCL)\n"
                "  inspect DATA_DIR                       (the whole inspection; ewis, PCL)\n"
                "helpers (ewis_steps only): convert-pcd IN OUT | prepare SCENE_DIR FILTERED_PLY OUT_DIR\n",
                prog);
