@@ -220,7 +220,8 @@ static Chain trace_chain(const Cloud::Ptr& cloud, const pcl::search::KdTree<pcl:
       dir = axis;
     }
   }
-  for (auto it = back.rbegin(); it != back.rend(); ++it) chain.segments.insert(chain.segments.begin(), {it->second, it->first});
+  // one end to the other: the backward pieces reversed (farthest first), then the forward ones
+  for (const auto& [a, b] : back) chain.segments.insert(chain.segments.begin(), {b, a});
   std::vector<double> r = chain.radii_mm;
   std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
   chain.radius_mm = r[r.size() / 2];
