@@ -100,7 +100,7 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
     const double dd = (q - u * t).norm();
     if (dd <= r + 2 * tol0 && dd >= 0.3 * r) win.push_back(q);
   }
-  CylinderFitParams fp = ctx.fit_params(r);
+  CylinderFitParams fp = ctx.fit_params(r, est.center);
   fp.max_radius_mm = 3.0 * r;
   const CylinderFitResult fit = fit_cylinder(win, Eigen::Vector3d::Zero(), u, r, fp);
   if (!fit.ok || fit.arc_deg < 80.0 || fit.inliers < 20 || fit.rms_mm > 0.2 * fit.radius_mm) return false;

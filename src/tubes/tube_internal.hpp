@@ -29,7 +29,8 @@ struct Context {
 
   Context(const Cloud& c, const KdTree& t, const TubeParams& p) : cloud(c), tree(t), params(p) {}
   bool usable(std::uint32_t i) const { return !params.usable || (i < params.usable->size() && (*params.usable)[i]); }
-  CylinderFitParams fit_params(double radius_mm) const;
+  // `origin`: what the fitted points are relative to (gather's origin); the sensor is given relative to it too.
+  CylinderFitParams fit_params(double radius_mm, const Eigen::Vector3d& origin) const;
 };
 
 // Usable scan points within `radius` of `center`, relative to `origin` (double), with their indices.

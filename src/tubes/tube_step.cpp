@@ -8,12 +8,12 @@
 
 namespace ewis::tubes_detail {
 
-CylinderFitParams Context::fit_params(double radius_mm) const {
+CylinderFitParams Context::fit_params(double radius_mm, const Eigen::Vector3d& origin) const {
   CylinderFitParams fp;
   fp.min_sigma_mm = std::max(0.02, 0.05 * resolution_mm);
   fp.max_radius_mm = 3.0 * radius_mm;
   fp.use_sensor = params.has_sensor;
-  fp.sensor = params.sensor_position;
+  fp.sensor = params.sensor_position - origin;
   return fp;
 }
 
@@ -214,7 +214,7 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
     st.fail = "no data";
     return st;
   }
-  const CylinderFitResult fit = fit_cylinder(win, u * t_c, u, r_ref, ctx.fit_params(r_ref));
+  const CylinderFitResult fit = fit_cylinder(win, u * t_c, u, r_ref, ctx.fit_params(r_ref, a));
   if (!fit.ok) {
     st.fail = "no surface";
     return st;

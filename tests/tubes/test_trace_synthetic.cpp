@@ -74,6 +74,29 @@ TEST_P(StraightTube, DiameterAndCentrelineWithinGoals) {
 
 INSTANTIATE_TEST_SUITE_P(Diameters, StraightTube, ::testing::Values(5.0, 10.0, 30.0));
 
+// The same with the sensor known (at the origin, as in a scan's own frame; the tube 600 mm away): the fit's
+// sensor must be taken in the frame of the step's points (it was not: nothing was found).
+TEST(TraceTube, StraightTubeWithTheSensorAtTheOrigin) {
+  const double r = 5.0;
+  const Vector3d dir = Vector3d(1, 0.3, 0.2).normalized();
+  const Vector3d mid(5, -10, 600);
+  const auto truth = synth::line(mid - dir * 75, mid + dir * 75);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  ewis::TubeParams params;
+  params.has_sensor = true;
+  params.sensor_position = Vector3d::Zero();
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, mid - mid.normalized() * r, params);
+  const Metrics m = measure(t, truth, r);
+  print("straight, sensor known", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 3.0);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_GE(m.coverage, 0.95);
+}
+
 // Seed on the visible surface of the tube at centreline point c.
 Vector3d surface_seed(const Vector3d& c, double r) { return c - c.normalized() * r; }
 
