@@ -196,6 +196,15 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
       const double lr = 2.0 * (fillet_robust_cost(pts, alt.model, c) - fillet_robust_cost(pts, f.model, c)) / sigma2;
       precise_enough = lr >= params.min_log_likelihood_ratio;
+      if (precise_enough) {
+        // ... and the data must pin the radius down on the loose side too: held at twice the fit's radius the
+        // model must fit clearly worse. A corner fitted into a gently curving stretch (the circle windows there
+        // reading high) is preferred to the circle's radius, but not to twice its own.
+        start.bend_radius_mm = 2.0 * f.model.bend_radius_mm;
+        const FilletFit doubled = fit_fillet(pts, start, held);
+        const double lr2 = 2.0 * (fillet_robust_cost(pts, doubled.model, c) - fillet_robust_cost(pts, f.model, c)) / sigma2;
+        precise_enough = lr2 >= params.min_log_likelihood_ratio_doubled;
+      }
     }
     o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg && precise_enough &&
            std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&

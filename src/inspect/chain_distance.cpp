@@ -34,6 +34,71 @@ ChainPoint distance_to_chain(const std::vector<Cylinder>& chain, const Eigen::Ve
   return best;
 }
 
+std::vector<Cylinder> bridge_short_breaks(const std::vector<Cylinder>& chain, double max_break_mm) {
+  std::vector<Cylinder> out = chain;
+  // Run ends: position, outward direction (away from the run), radius, run index. A run is a stretch of
+  // segments joined end to start.
+  struct End {
+    Eigen::Vector3d at, out;
+    double radius_mm;
+    std::size_t run;
+  };
+  std::vector<End> ends;
+  std::size_t run = 0;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const Eigen::Vector3d dir = (chain[i].end - chain[i].start).normalized();
+    if (i == 0 || (chain[i - 1].end - chain[i].start).norm() > 1e-6) {
+      if (i > 0) ++run;
+      ends.push_back({chain[i].start, -dir, chain[i].radius_mm, run});
+    }
+    if (i + 1 == chain.size() || (chain[i + 1].start - chain[i].end).norm() > 1e-6)
+      ends.push_back({chain[i].end, dir, chain[i].radius_mm, run});
+  }
+  // Two ends belong together when they face each other (each within 60 deg of the line to the other).
+  auto facing = [&](std::size_t a, std::size_t b) {
+    const Eigen::Vector3d ab = ends[b].at - ends[a].at;
+    const double len = ab.norm();
+    return len <= max_break_mm && (len < 1e-9 || (ends[a].out.dot(ab) > 0.5 * len && ends[b].out.dot(-ab) > 0.5 * len));
+  };
+  auto nearest_other = [&](std::size_t a) {
+    std::size_t best = ends.size();
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t b = 0; b < ends.size(); ++b) {
+      if (ends[b].run == ends[a].run || !facing(a, b)) continue;
+      const double d = (ends[b].at - ends[a].at).norm();
+      if (d < best_d) {
+        best_d = d;
+        best = b;
+      }
+    }
+    return best;
+  };
+  for (std::size_t a = 0; a < ends.size(); ++a) {
+    const std::size_t b = nearest_other(a);
+    if (b == ends.size() || b < a || nearest_other(b) != a) continue;  // mutual nearest, each pair once
+    // A cubic Hermite curve leaving each end along its run (a cable in the break keeps its course), as
+    // cylinders of at most about a radius' length, one run of its own.
+    const Eigen::Vector3d p0 = ends[a].at, p1 = ends[b].at;
+    const double len = (p1 - p0).norm();
+    const Eigen::Vector3d m0 = ends[a].out * len, m1 = -ends[b].out * len;
+    const double radius = 0.5 * (ends[a].radius_mm + ends[b].radius_mm);
+    const int pieces = std::clamp(static_cast<int>(std::ceil(len / std::max(radius, 1e-3))), 1, 32);
+    auto at = [&](double t) {
+      const double t2 = t * t, t3 = t2 * t;
+      return Eigen::Vector3d((2 * t3 - 3 * t2 + 1) * p0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * p1 +
+                             (t3 - t2) * m1);
+    };
+    for (int k = 0; k < pieces; ++k) {
+      Cylinder c;
+      c.start = at(double(k) / pieces);
+      c.end = at(double(k + 1) / pieces);
+      c.radius_mm = radius;
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
 double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
                         const Eigen::Vector3d& q1, Eigen::Vector3d* on_p, Eigen::Vector3d* on_q) {
   // Ericson 5.1.9, with the degenerate cases.

@@ -84,6 +84,8 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   if (!me.found || me.chain.empty() || cloud.empty()) return out;
   const double r = me.radius_mm;
   const double reach = r + params.clearance_mm;
+  // The measured model with its short breaks between runs bridged: what lies over the cable there is judged.
+  const std::vector<Cylinder> chain = bridge_short_breaks(me.chain, params.bridge_break_diameters * 2.0 * r);
   const double graze = params.ray_graze_mm > 0 ? params.ray_graze_mm : std::max(params.resolution_mm, 1e-3);
 
   // 1. Candidates: P points within clearance of the fitted surface (one radius query per sub-cable), and
@@ -94,7 +96,7 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   std::vector<std::uint8_t> occluding(cloud.size(), 0);
   std::vector<std::uint32_t> candidates;
   std::vector<Neighbor> nb;
-  for (const Cylinder& c : me.chain) {
+  for (const Cylinder& c : chain) {
     const Eigen::Vector3d mid = 0.5 * (c.start + c.end);
     tree.radius_unsorted(mid.cast<float>(), float(0.5 * c.length_mm() + query_reach + 1e-3), nb);
     for (const Neighbor& n : nb) {
@@ -102,16 +104,20 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       seen[n.index] = 1;
       if (contains_sorted(me.points, n.index)) continue;  // S
       const Eigen::Vector3d p = cloud.points[n.index].cast<double>();
-      const ChainPoint cp = distance_to_chain(me.chain, p);
+      const ChainPoint cp = distance_to_chain(chain, p);
       if (cp.beyond_end) continue;
       const double gap = cp.distance_mm - r;
-      if (gap < params.own_surface_band_mm || gap > params.clearance_mm + extra) continue;
+      // over a bridged break the cable's course is a guess: its own untraced surface may lie a little off it
+      const double band = cp.segment < me.chain.size()
+                              ? params.own_surface_band_mm
+                              : std::max(params.own_surface_band_mm, params.bridge_band_radii * r);
+      if (gap < band || gap > params.clearance_mm + extra) continue;
       if (gap > params.clearance_mm) {
         // Beyond the clearance: only a point over the cable that hides it (its ray, continued, hits it).
         const Eigen::Vector3d u = (p - params.sensor_position).normalized();
         const Eigen::Vector3d q = p + u * (gap + 2.0 * r);
         bool hides = false;
-        for (const Cylinder& s : me.chain)
+        for (const Cylinder& s : chain)
           if (segment_distance(p, q, s.start, s.end) < r) {
             hides = true;
             break;
@@ -311,11 +317,11 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       double gap = std::numeric_limits<double>::infinity();
       for (std::uint32_t i : f.points) {
         const Eigen::Vector3d p = cloud.points[i].cast<double>();
-        const ChainPoint cp = distance_to_chain(me.chain, p);
+        const ChainPoint cp = distance_to_chain(chain, p);
         if (cp.distance_mm - r < gap) {
           gap = cp.distance_mm - r;
           f.closest_on_other = p;
-          const Cylinder& seg = me.chain[cp.segment];
+          const Cylinder& seg = chain[cp.segment];
           const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
           f.closest_on_cable = axis_pt + (p - axis_pt).normalized() * r;
         }

@@ -242,3 +242,65 @@ TEST(Interference, VeilsAreDroppedObjectsKept) {
     }
   }
 }
+
+// A foreign strip lying across the cable splits its trace into two runs (0-44 mm and 56-100 mm): what lies in
+// the break is judged against a bridge over it, not dropped as lying beyond the cable's end.
+TEST(Interference, ObjectInABreakBetweenRunsIsFound) {
+  const double r = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  Cloud cloud;
+  MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {44, 0, 0}, r, 9);
+  const MeasuredCable B = straight_cable(cloud, "cable_A", 0, {56, 0, 0}, {100, 0, 0}, r, 9);
+  A.chain.insert(A.chain.end(), B.chain.begin(), B.chain.end());
+  A.points.insert(A.points.end(), B.points.begin(), B.points.end());
+  // the strip's top face, 2 mm above the cable's top (beyond the bridge's wider own-surface band of 0.25 r),
+  // 8 mm wide along the cable, 30 mm across it
+  add_top_face(cloud, {46, -15, r + 2.0}, {54, 15, r + 2.0});
+  const KdTree tree(cloud.points);
+  const SurfaceIndex rigid;
+  InterferenceParams p;
+  p.clearance_mm = 5.0;
+  p.resolution_mm = kRes;
+  p.has_sensor = true;
+  p.sensor_position = {50, 0, 600};
+  const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_FALSE(found[0].with.has_value());
+  EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.2);
+  // with the bridge switched off, the strip is past both runs' ends: nothing is reported
+  p.bridge_break_diameters = 0.0;
+  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+}
+
+TEST(ChainDistance, ShortBreaksBetweenRunsAreBridged) {
+  std::vector<Cylinder> chain = straight_chain({0, 0, 0}, {40, 0, 0}, 2.0, 4);
+  const std::vector<Cylinder> far = straight_chain({52, 0, 0}, {90, 0, 0}, 2.0, 4);
+  chain.insert(chain.end(), far.begin(), far.end());
+  const std::vector<Cylinder> bridged = bridge_short_breaks(chain, 15.0);
+  ASSERT_GT(bridged.size(), chain.size());  // the 12 mm bridge as 6 pieces of ~a radius
+  const ChainPoint in_break = distance_to_chain(bridged, {46, 3, 0});
+  EXPECT_FALSE(in_break.beyond_end);
+  EXPECT_NEAR(in_break.distance_mm, 3.0, 1e-9);
+  EXPECT_TRUE(distance_to_chain(chain, {46, 3, 0}).beyond_end);
+  EXPECT_TRUE(distance_to_chain(bridged, {95, 0, 0}).beyond_end);  // the cable's own end stays an end
+  EXPECT_EQ(bridge_short_breaks(chain, 11.0).size(), chain.size());  // a 12 mm break is longer than 11
+  // runs that do not face each other (side by side, both ending at x = 40) are not bridged
+  std::vector<Cylinder> side = straight_chain({0, 0, 0}, {40, 0, 0}, 2.0, 4);
+  const std::vector<Cylinder> beside = straight_chain({0, 8, 0}, {40, 8, 0}, 2.0, 4);
+  side.insert(side.end(), beside.begin(), beside.end());
+  EXPECT_EQ(bridge_short_breaks(side, 15.0).size(), side.size());
+}
+
+// The bridge follows the runs' directions: two runs of an arc (radius 40 mm) broken over 20 deg are joined
+// along the arc, not across its chord (the chord's middle is 0.6 mm inside the arc).
+TEST(ChainDistance, BridgesFollowTheRunsAcrossABend) {
+  const double R = 40.0;
+  auto arc = [&](double deg) { return Eigen::Vector3d(R * std::cos(deg * M_PI / 180), R * std::sin(deg * M_PI / 180), 0); };
+  std::vector<Cylinder> chain;
+  for (double a = 0; a < 80 - 1e-9; a += 5) chain.push_back({arc(a), arc(a + 5), 2.0});
+  for (double a = 100; a < 180 - 1e-9; a += 5) chain.push_back({arc(a), arc(a + 5), 2.0});
+  const std::vector<Cylinder> bridged = bridge_short_breaks(chain, 30.0);
+  ASSERT_GT(bridged.size(), chain.size());
+  EXPECT_NEAR(distance_to_chain(bridged, arc(90)).distance_mm, 0.0, 0.15);
+}

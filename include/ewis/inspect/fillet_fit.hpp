@@ -77,6 +77,9 @@ struct FilletRefineParams {
                                            // held at the circle's radius fits worse by a likelihood ratio over
                                            // min_log_likelihood_ratio (2 x cost difference / sigma^2, chi-square 1)
   double min_log_likelihood_ratio = 100.0;
+  // ... and the same model held at twice the fit's radius fits worse by at least this ratio (the radius is
+  // bounded on the loose side too; 25: five standard errors)
+  double min_log_likelihood_ratio_doubled = 25.0;
   double tube_radius_tolerance = 0.25;  // the fitted tube radius within this fraction of the measured one
   // The cable's point set S comes from a chain of straight cylinders, which cuts a tight bend's corner and so
   // leaves out the outer surface at its apex: the very points that carry the radius. With the scan given, the

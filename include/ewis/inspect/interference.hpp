@@ -97,6 +97,11 @@ struct InterferenceParams {
   // resolution) wide (a curtain along a depth edge is a pixel or two wide; an object seen obliquely is not).
   double veil_max_width_mm = 1.5;
   double veil_max_width_res = 3.0;
+  // Breaks between the cable's runs up to this many diameters are bridged for the point checks
+  // (bridge_short_breaks): an object lying over the cable splits its trace but is still near it.
+  double bridge_break_diameters = 6.0;
+  // Over a bridge the cable's own surface band is at least this many radii (the course there is guessed).
+  double bridge_band_radii = 0.25;
 };
 
 struct Interference {
