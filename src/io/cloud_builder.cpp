@@ -1,5 +1,7 @@
 #include "cloud_builder.hpp"
 
+#include "ewis/core/scratch.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -97,8 +99,12 @@ CloudBuilder::CloudBuilder(const std::vector<FieldSpec>& fields, std::size_t n)
   }
   has_xyz_ = x && y && z;
   if (!has_xyz_) return;
-  cloud_.points.resize(n);
-  if (normals) cloud_.normals.resize(n);
+  cloud_.points.resize(n);  // not initialised (Eigen): the decoder touches it first
+  prefer_huge_pages(cloud_.points.data(), n * sizeof(Eigen::Vector3f));
+  if (normals) {
+    cloud_.normals.resize(n);
+    prefer_huge_pages(cloud_.normals.data(), n * sizeof(Eigen::Vector3f));
+  }
   if (colors)
     for (auto& c : channel_) c.resize(n);
   if (packed) packed_.resize(n);

@@ -7,6 +7,7 @@
 
 #include "cloud_builder.hpp"
 #include "ewis/core/error.hpp"
+#include "ewis/core/scratch.hpp"
 #include "pcd_header.hpp"
 #include "readers.hpp"
 #include "text_scan.hpp"
@@ -38,7 +39,7 @@ void read_binary(const std::string& path, std::string_view bytes, const PcdHeade
 }
 
 // Decompresses the whole body (checked sizes, exact LZF length) before anything is allocated per point.
-std::unique_ptr<char[]> decompress(const std::string& path, std::string_view bytes, const PcdHeader& h) {
+ScratchArray<char> decompress(const std::string& path, std::string_view bytes, const PcdHeader& h) {
   const std::size_t left = bytes.size() - h.body_offset;
   if (left < 8) throw InputError(path, "truncated: binary_compressed data has no size fields");
   const char* p = bytes.data() + h.body_offset;
@@ -50,14 +51,14 @@ std::unique_ptr<char[]> decompress(const std::string& path, std::string_view byt
   if (raw != std::uint64_t(h.points) * h.point_bytes)
     throw InputError(path, "binary_compressed: uncompressed size " + std::to_string(raw) + " does not match " +
                                std::to_string(h.points) + " points x " + std::to_string(h.point_bytes) + " bytes");
-  if (raw == 0) return nullptr;
+  if (raw == 0) return {};
   // LZF expands at most ~88x (a 3-byte back-reference covers 264 bytes): a larger claim is a lie; refuse it
   // before allocating.
   if (std::uint64_t(raw) > std::uint64_t(comp) * 100 + 64)
     throw InputError(path, "binary_compressed: uncompressed size " + std::to_string(raw) +
                                " is impossible for " + std::to_string(comp) + " compressed bytes");
-  std::unique_ptr<char[]> buf(new char[raw]);
-  const unsigned got = lzf_decompress(p + 8, comp, buf.get(), raw);
+  ScratchArray<char> buf(raw);  // huge pages: its first touch is the decompression (core/scratch.hpp)
+  const unsigned got = lzf_decompress(p + 8, comp, buf.data(), raw);
   if (got != raw) throw InputError(path, "binary_compressed: the LZF data does not decompress");
   return buf;
 }
@@ -142,11 +143,11 @@ CloudFile read_pcd(const std::string& path, std::string_view bytes, float to_mm)
   }
   // binary_compressed: the sizes are checked and the stream decompressed (to exactly points x point_bytes)
   // before the cloud is allocated.
-  std::unique_ptr<char[]> raw;
+  ScratchArray<char> raw;
   if (h.data == PcdData::BinaryCompressed) raw = decompress(path, bytes, h);
   CloudBuilder builder(h.fields, h.points);
   if (h.data == PcdData::Binary) read_binary(path, bytes, h, builder);
-  else if (h.data == PcdData::BinaryCompressed) decode_soa(raw.get(), h, builder);
+  else if (h.data == PcdData::BinaryCompressed) decode_soa(raw.data(), h, builder);
   else read_ascii(path, bytes, h, builder);
 
   std::vector<std::string> names;

@@ -7,6 +7,7 @@
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
+#include "ewis/core/scratch.hpp"
 
 namespace ewis {
 namespace {
@@ -111,10 +112,16 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
   }
 
   MeshSamples out;
+  // Large outputs are filled by the threads below: huge pages for their first touch (core/scratch.hpp).
   out.cloud.points.resize(total);
+  prefer_huge_pages(out.cloud.points.data(), total * sizeof(Eigen::Vector3f));
   out.cloud.normals.resize(total);
-  out.element.resize(total);
-  out.triangle.resize(total);
+  prefer_huge_pages(out.cloud.normals.data(), total * sizeof(Eigen::Vector3f));
+  for (std::vector<std::uint32_t>* v : {&out.element, &out.triangle}) {
+    v->reserve(total);
+    prefer_huge_pages(v->data(), total * sizeof(std::uint32_t));
+    v->resize(total);
+  }
 
   // Work items: (plan, block of kBlock samples), each with its own RNG stream seeded from
   // (seed, element, block), so results do not depend on the thread count or scheduling.

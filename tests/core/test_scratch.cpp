@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <numeric>
+#include <vector>
 
 #include "ewis/core/scratch.hpp"
 
@@ -28,6 +29,20 @@ TEST(ScratchArray, HoldsValuesAcrossSizesAndMoves) {
   ScratchArray<float> empty(0);
   EXPECT_EQ(empty.size(), 0u);
   EXPECT_EQ(empty.data(), nullptr);
+}
+
+// The advice is a hint on the aligned interior only: any range (empty, tiny, unaligned, large) is safe and the
+// memory keeps its contents.
+TEST(ScratchArray, HugePageAdviceKeepsContents) {
+  std::vector<std::uint32_t> v;
+  v.reserve(3'000'000);
+  prefer_huge_pages(v.data(), 3'000'000 * sizeof(std::uint32_t));
+  v.resize(3'000'000);
+  std::iota(v.begin(), v.end(), 0u);
+  prefer_huge_pages(v.data() + 1, 17);
+  prefer_huge_pages(nullptr, 0);
+  EXPECT_EQ(v[2'999'999], 2'999'999u);
+  EXPECT_EQ(v[12345], 12345u);
 }
 
 }  // namespace ewis

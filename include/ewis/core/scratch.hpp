@@ -14,6 +14,11 @@ namespace ewis {
 // stay in the process's resident memory otherwise (30 MB after a 5.6 MB OBJ).
 void return_free_heap_to_os();
 
+// Asks for transparent huge pages on the 2 MiB-aligned part of [data, data + bytes) not touched yet (a large
+// std::vector just reserved or resized without initialisation): its first touch then faults once per 2 MiB. A
+// hint only; small ranges are left alone.
+void prefer_huge_pages(const void* data, std::size_t bytes);
+
 namespace scratch_detail {
 void* allocate(std::size_t bytes);  // never null: throws std::bad_alloc
 void release(void* p, std::size_t bytes) noexcept;
