@@ -3,7 +3,6 @@
 #include <lzf.h>
 
 #include <cstring>
-#include <memory>
 
 #include "cloud_builder.hpp"
 #include "ewis/core/error.hpp"

@@ -123,7 +123,8 @@ Scene load_ply(const std::string& path, std::size_t* dropped_degenerate) {
 }
 
 // Any other format, through Assimp: one element per object name (merged), triangles only.
-Scene import_with_assimp(const std::string& path, const std::filesystem::path& p, std::size_t* dropped_degenerate) {
+Scene import_with_assimp(const std::string& path, std::size_t* dropped_degenerate) {
+  const std::filesystem::path p(path);
   // No DefaultLogger is created, so Assimp logs to its NullLogger (silent).
   Assimp::Importer importer;
   // Triangulate polygons; JoinIdenticalVertices gives indexed meshes. Deliberately NOT OptimizeMeshes,
@@ -180,7 +181,7 @@ Scene load_scene(const std::string& path, std::size_t* dropped_degenerate) {
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (magic == "ply" || ext == ".ply") return load_ply(path, dropped_degenerate);
 
-  Scene scene = import_with_assimp(path, p, dropped_degenerate);
+  Scene scene = import_with_assimp(path, dropped_degenerate);
   return_free_heap_to_os();  // Assimp's many small transient blocks (core/scratch.hpp)
   return scene;
 }

@@ -86,6 +86,16 @@ MeasuredCable straight_cable_along_x(Cloud& cloud, double r) {
   return straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {100, 0, 0}, r, 20);
 }
 
+// 5 mm clearance at the test resolution, the sensor at `sensor`.
+InterferenceParams params_seen_from(const Eigen::Vector3d& sensor) {
+  InterferenceParams p;
+  p.clearance_mm = 5.0;
+  p.resolution_mm = kRes;
+  p.has_sensor = true;
+  p.sensor_position = sensor;
+  return p;
+}
+
 const Interference* find_with(const std::vector<Interference>& v, const std::optional<std::string>& with) {
   for (const auto& f : v)
     if (f.with == with) return &f;
@@ -227,11 +237,7 @@ TEST(Interference, VeilsAreDroppedObjectsKept) {
     }
     const KdTree tree(cloud.points);
     const SurfaceIndex rigid;
-    InterferenceParams p;
-    p.clearance_mm = 5.0;
-    p.resolution_mm = kRes;
-    p.has_sensor = true;
-    p.sensor_position = sensor;
+    const InterferenceParams p = params_seen_from(sensor);
     const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
     if (veil) {
       EXPECT_TRUE(found.empty()) << "a veil was reported";
@@ -259,11 +265,7 @@ TEST(Interference, ObjectInABreakBetweenRunsIsFound) {
   add_top_face(cloud, {46, -15, r + 2.0}, {54, 15, r + 2.0});
   const KdTree tree(cloud.points);
   const SurfaceIndex rigid;
-  InterferenceParams p;
-  p.clearance_mm = 5.0;
-  p.resolution_mm = kRes;
-  p.has_sensor = true;
-  p.sensor_position = {50, 0, 600};
+  InterferenceParams p = params_seen_from({50, 0, 600});
   const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_FALSE(found[0].with.has_value());
