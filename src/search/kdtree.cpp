@@ -1,35 +1,31 @@
-// k-d tree over a cloud's positions: nanoflann 1.4 (DESIGN.md "Debian 12 versions") with our own result sets,
-// so that kNN ties break by index, radius searches include the boundary and counts stop early.
+// k-d tree over a cloud's positions, our own (DESIGN.md "Search"): an implicit balanced tree whose leaves are
+// contiguous runs of the points in leaf order. Memory is the leaf-ordered copy and its index map (16 bytes a
+// point) plus 12 bytes per 8-16 points of split planes; nothing at all besides the planes when the caller's
+// points are already in leaf order (`spatial_order()` is then the identity, see kdtree.hpp). nanoflann 1.4,
+// which this replaces, needed 30 bytes a point (its index array and 32-byte nodes on top of the copy).
+// Queries walk the tree like nanoflann's: the nearer child first, the farther one only when the squared
+// distance to its half-space (accumulated per axis) can still beat the result set's worst distance.
 #include "ewis/search/kdtree.hpp"
 
-#include <nanoflann.hpp>
+#include <tbb/task_group.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace ewis {
 namespace {
 
-// nanoflann's dataset concept over a contiguous array of float triples.
-struct PointsAdaptor {
-  const Eigen::Vector3f* data = nullptr;
-  std::size_t count = 0;
-  std::size_t kdtree_get_point_count() const { return count; }
-  float kdtree_get_pt(std::uint32_t i, std::size_t d) const { return data[i][d]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const { return false; }
-};
-
-using Metric = nanoflann::L2_Simple_Adaptor<float, PointsAdaptor, float, std::uint32_t>;
-using Tree = nanoflann::KDTreeSingleIndexAdaptor<Metric, PointsAdaptor, 3, std::uint32_t>;
-
-// Leaf size 12: leaves of 8 to 24 points were measured within 5% of each other for builds, radius counts
-// and 16-NN queries on a 0.8 M-point plane + outlier cloud; 12 was the fastest by a hair.
+// Leaves hold kLeafSize / 2 to kLeafSize points (every leaf is at the same depth; sizes differ by at most one).
+// 16 was measured against 8, 12 and 24 on the 1.3 M-point compare scan (build, radius counts, 16-NN).
 constexpr std::size_t kLeafSize = 12;
+// Subtrees with fewer points than this are built on the calling thread.
+constexpr std::size_t kParallelBuildMin = 65536;
 
-// nanoflann adds a point only when dist < worstDist(); the next float up makes the radius inclusive.
+// A point is added when dist < worstDist(); the next float up makes a radius inclusive.
 // (Bit increment = nextafter towards +inf for finite non-negative floats, without a libm call.)
 inline float inclusive(float radius_sq) {
   if (!(radius_sq >= 0) || !std::isfinite(radius_sq)) return radius_sq;
@@ -38,29 +34,40 @@ inline float inclusive(float radius_sq) {
 
 bool is_finite(const Eigen::Vector3f& p) { return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()); }
 
+// Squared distance with the arithmetic of nanoflann's L2_Simple_Adaptor ((0 + dx^2) + dy^2) + dz^2, so results
+// are bit-identical to the tests' brute force.
+inline float dist_sq(const Eigen::Vector3f& p, const float* q) {
+  const float dx = p[0] - q[0];
+  const float dy = p[1] - q[1];
+  const float dz = p[2] - q[2];
+  float d = dx * dx;
+  d += dy * dy;
+  d += dz * dz;
+  return d;
+}
+
 // The k nearest by (distance, index): deterministic whatever order the tree visits the points in.
 class KnnSet {
  public:
   KnnSet(Neighbor* buf, std::size_t k, const std::uint32_t* ids) : buf_(buf), k_(k), ids_(ids) {}
   std::size_t size() const { return count_; }
-  bool full() const { return count_ == k_; }
   // while full, a point at exactly the k-th distance may still win on its smaller index
   float worstDist() const { return worst_; }
   bool addPoint(float d, std::uint32_t slot) {
-    const std::uint32_t idx = ids_[slot];  // ties compare the caller's indices
-    std::size_t i = count_;
+    const std::uint32_t idx = ids_ ? ids_[slot] : slot;  // ties compare the caller's indices
     auto less = [](float da, std::uint32_t ia, const Neighbor& b) {
       return da < b.distance_sq || (da == b.distance_sq && ia < b.index);
     };
-    if (full() && !less(d, idx, buf_[k_ - 1])) return true;
-    if (!full()) ++count_;
-    i = count_ - 1;
+    const bool full = count_ == k_;
+    if (full && !less(d, idx, buf_[k_ - 1])) return true;
+    if (!full) ++count_;
+    std::size_t i = count_ - 1;
     while (i > 0 && less(d, idx, buf_[i - 1])) {
       buf_[i] = buf_[i - 1];
       --i;
     }
     buf_[i] = {idx, d};
-    if (full()) worst_ = inclusive(buf_[k_ - 1].distance_sq);
+    if (count_ == k_) worst_ = inclusive(buf_[k_ - 1].distance_sq);
     return true;
   }
 
@@ -76,11 +83,9 @@ class RadiusSet {
  public:
   RadiusSet(float radius_sq, std::vector<Neighbor>& out, const std::uint32_t* ids)
       : worst_(inclusive(radius_sq)), out_(out), ids_(ids) {}
-  std::size_t size() const { return out_.size(); }
-  bool full() const { return true; }
   float worstDist() const { return worst_; }
   bool addPoint(float d, std::uint32_t slot) {
-    out_.push_back({ids_[slot], d});
+    out_.push_back({ids_ ? ids_[slot] : slot, d});
     return true;
   }
 
@@ -95,7 +100,6 @@ class CountSet {
  public:
   CountSet(float radius_sq, std::size_t stop_at) : worst_(inclusive(radius_sq)), stop_at_(stop_at) {}
   std::size_t size() const { return count_; }
-  bool full() const { return true; }
   float worstDist() const { return worst_; }
   bool addPoint(float, std::uint32_t) { return ++count_ < stop_at_; }
 
@@ -105,50 +109,269 @@ class CountSet {
   std::size_t count_ = 0;
 };
 
+// A node in preorder (the left child of node k is k + 1), 12 bytes. Inner nodes: the left child's points have
+// coordinate `dim` <= low, the right child's >= high (low <= high). Leaves (dim == 3): slots [begin, end).
+struct Node {
+  std::uint32_t a;              // low (float bits), or begin
+  std::uint32_t b;              // high (float bits), or end
+  std::uint32_t right_and_dim;  // index of the right child << 2 | dim
+  std::uint32_t dim() const { return right_and_dim & 3u; }
+  std::uint32_t right() const { return right_and_dim >> 2; }
+  float low() const { return std::bit_cast<float>(a); }
+  float high() const { return std::bit_cast<float>(b); }
+};
+constexpr std::uint32_t kLeaf = 3;
+
+struct Box {
+  Eigen::Vector3f lo;
+  Eigen::Vector3f hi;
+};
+
+Box bounds_of(const Eigen::Vector3f* p, std::size_t b, std::size_t e) {
+  Box box{p[b], p[b]};
+  for (std::size_t i = b + 1; i < e; ++i) {
+    box.lo = box.lo.cwiseMin(p[i]);
+    box.hi = box.hi.cwiseMax(p[i]);
+  }
+  return box;
+}
+
 }  // namespace
 
 struct KdTree::Impl {
-  const std::vector<Eigen::Vector3f>* points;
-  // The finite points copied in the tree's leaf order, so that a leaf is one contiguous run of memory
-  // (nanoflann otherwise gathers through its index array: a cache miss per point on large clouds), and
-  // `ids` maps each slot back to the caller's index. Non-finite points (NaNs of organized scans) are left out.
+  const std::vector<Eigen::Vector3f>* points = nullptr;
+  // The finite points in leaf order and, per slot, the caller's index. Both stay empty when the caller's
+  // points are already in leaf order with every finite point before any non-finite one (slot == index).
   std::vector<Eigen::Vector3f> sorted;
   std::vector<std::uint32_t> ids;
-  PointsAdaptor adaptor;
-  std::unique_ptr<Tree> tree;
+  const Eigen::Vector3f* pts = nullptr;  // slot -> position
+  std::size_t count = 0;                 // finite points (slots)
+  std::vector<Node> nodes;               // preorder; node 0 is the root
+  Box box{};                             // bounds of all finite points
+  const std::uint32_t* id_map() const { return ids.empty() ? nullptr : ids.data(); }
+
+  template <class Set>
+  bool search(Set& set, const float* q, const Node* node, float mindist, float* dists) const;
+  template <class Set>
+  void find(Set& set, const Eigen::Vector3f& query) const;
 };
+
+namespace {
+
+// Builds the nodes over slots [b, e) with nanoflann's rule (its middleSplit_, which keeps cells close to cubes
+// on surfaces with outliers around them, where a median split was measured 10-20% slower to query): cut the
+// widest side of the cell box (among sides within 1e-5 of the widest, the one with the widest spread of the
+// points) at its middle, clamped to the points' range; the points below go left, those above right, and
+// points on the plane fill the smaller side up to half. In place (`sorted` empty), nothing may move: the
+// build fails at the first split that would move a point and the caller copies and builds again.
+class Builder {
+ public:
+  Builder(const Eigen::Vector3f* pts, Eigen::Vector3f* sorted, std::uint32_t* ids)
+      : pts_(pts), sorted_(sorted), ids_(ids) {}
+  bool failed() const { return failed_.load(std::memory_order_relaxed); }
+
+  // Appends the subtree's nodes to `out` (indices relative to out's start + `base`); `box` is the cell on
+  // entry and the points' exact bounds on return.
+  void build(std::vector<Node>& out, std::size_t base, std::size_t b, std::size_t e, Box& box) {
+    if (failed()) return;
+    const std::size_t k = out.size();
+    out.push_back({static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(e), kLeaf});
+    const std::size_t n = e - b;
+    if (n <= kLeafSize) {
+      box = bounds_of(pts_, b, e);
+      return;
+    }
+    // the side to cut
+    const Eigen::Vector3f span = box.hi - box.lo;
+    const float max_span = span.maxCoeff();
+    int dim = 0;
+    float max_spread = -1, cut_min = 0, cut_max = 0;
+    for (int d = 0; d < 3; ++d) {
+      if (!(span[d] > (1 - 1e-5f) * max_span)) continue;
+      float lo = pts_[b][d], hi = lo;
+      for (std::size_t i = b + 1; i < e; ++i) {
+        lo = std::min(lo, pts_[i][d]);
+        hi = std::max(hi, pts_[i][d]);
+      }
+      if (hi - lo > max_spread) {
+        dim = d;
+        max_spread = hi - lo;
+        cut_min = lo;
+        cut_max = hi;
+      }
+    }
+    const float middle = (box.lo[dim] + box.hi[dim]) / 2;
+    const float cut = std::clamp(middle, cut_min, cut_max);
+    std::size_t below = 0, at_or_below = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      below += pts_[i][dim] < cut;
+      at_or_below += pts_[i][dim] <= cut;
+    }
+    const std::size_t size_left = below > n / 2 ? below : at_or_below < n / 2 ? at_or_below : n / 2;
+    const std::size_t m = b + size_left;
+    bool split = true;
+    for (std::size_t i = b; i < m && split; ++i) split = pts_[i][dim] <= cut;
+    for (std::size_t i = m; i < e && split; ++i) split = pts_[i][dim] >= cut;
+    if (!split) {
+      if (!sorted_) {
+        failed_.store(true, std::memory_order_relaxed);
+        return;
+      }
+      partition(b, e, dim, cut);  // [< cut][== cut][> cut]: below | at | above, so m is a valid split
+    }
+    Box left = box, right = box;
+    left.hi[dim] = cut;
+    right.lo[dim] = cut;
+    if (n >= kParallelBuildMin) {
+      std::vector<Node> left_nodes;
+      tbb::task_group g;
+      g.run([&] { build(left_nodes, 0, b, m, left); });
+      std::vector<Node> right_nodes;
+      build(right_nodes, 0, m, e, right);
+      g.wait();
+      if (failed()) return;
+      append(out, left_nodes, base + out.size());
+      out[k].right_and_dim = static_cast<std::uint32_t>((base + out.size()) << 2) | dim;
+      append(out, right_nodes, base + out.size());
+    } else {
+      build(out, base, b, m, left);
+      if (failed()) return;
+      out[k].right_and_dim = static_cast<std::uint32_t>((base + out.size()) << 2) | dim;
+      build(out, base, m, e, right);
+      if (failed()) return;
+    }
+    out[k].a = std::bit_cast<std::uint32_t>(left.hi[dim]);
+    out[k].b = std::bit_cast<std::uint32_t>(right.lo[dim]);
+    box.lo = left.lo.cwiseMin(right.lo);
+    box.hi = left.hi.cwiseMax(right.hi);
+  }
+
+ private:
+  // nodes built apart start at index 0: shift their right-child links to where they land
+  static void append(std::vector<Node>& out, const std::vector<Node>& sub, std::size_t at) {
+    for (Node nd : sub) {
+      if (nd.dim() != kLeaf) nd.right_and_dim += static_cast<std::uint32_t>(at << 2);
+      out.push_back(nd);
+    }
+  }
+
+  void swap_slots(std::size_t i, std::size_t j) {
+    std::swap(sorted_[i], sorted_[j]);
+    std::swap(ids_[i], ids_[j]);
+  }
+
+  // Two passes of nanoflann's planeSplit: first the points < cut to the front, then those == cut after them.
+  void partition(std::size_t b, std::size_t e, int dim, float cut) {
+    auto pass = [&](std::size_t lo, auto goes_left) {
+      std::size_t hi = e;
+      while (true) {
+        while (lo < hi && goes_left(sorted_[lo][dim])) ++lo;
+        while (lo < hi && !goes_left(sorted_[hi - 1][dim])) --hi;
+        if (hi - lo < 2) return lo;
+        swap_slots(lo, hi - 1);
+        ++lo;
+        --hi;
+      }
+    };
+    const std::size_t at = pass(b, [cut](float v) { return v < cut; });
+    pass(at, [cut](float v) { return v <= cut; });
+  }
+
+  const Eigen::Vector3f* pts_;
+  Eigen::Vector3f* sorted_;
+  std::uint32_t* ids_;
+  std::atomic<bool> failed_{false};
+};
+
+}  // namespace
+
+template <class Set>
+bool KdTree::Impl::search(Set& set, const float* q, const Node* nd, float mindist, float* dists) const {
+  const std::uint32_t dim = nd->dim();
+  if (dim == kLeaf) {
+    float worst = set.worstDist();
+    for (std::uint32_t s = nd->a; s < nd->b; ++s) {
+      const float d = dist_sq(pts[s], q);
+      if (d < worst) {
+        if (!set.addPoint(d, s)) return false;
+        worst = set.worstDist();
+      }
+    }
+    return true;
+  }
+  const float val = q[dim];
+  const float diff1 = val - nd->low();
+  const float diff2 = val - nd->high();
+  const Node* left = nd + 1;
+  const Node* right = nodes.data() + nd->right();
+  const Node* best = left;
+  const Node* other = right;
+  float cut = diff2 * diff2;
+  if (diff1 + diff2 >= 0) {
+    best = right;
+    other = left;
+    cut = diff1 * diff1;
+  }
+  if (!search(set, q, best, mindist, dists)) return false;
+  const float saved = dists[dim];
+  mindist = mindist + cut - saved;
+  dists[dim] = cut;
+  if (mindist <= set.worstDist() && !search(set, q, other, mindist, dists)) return false;
+  dists[dim] = saved;
+  return true;
+}
+
+template <class Set>
+void KdTree::Impl::find(Set& set, const Eigen::Vector3f& query) const {
+  if (count == 0) return;
+  const float* q = query.data();
+  float dists[3] = {0, 0, 0};
+  float mindist = 0;
+  for (int d = 0; d < 3; ++d) {
+    if (q[d] < box.lo[d]) dists[d] = (q[d] - box.lo[d]) * (q[d] - box.lo[d]);
+    else if (q[d] > box.hi[d]) dists[d] = (q[d] - box.hi[d]) * (q[d] - box.hi[d]);
+    mindist += dists[d];
+  }
+  search(set, q, nodes.data(), mindist, dists);
+}
 
 KdTree::KdTree(const std::vector<Eigen::Vector3f>& points) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.points = &points;
-  m.ids.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (is_finite(points[i])) m.ids.push_back(static_cast<std::uint32_t>(i));
-  if (m.ids.empty()) return;
-  m.sorted.resize(m.ids.size());
-  for (std::size_t j = 0; j < m.ids.size(); ++j) m.sorted[j] = points[m.ids[j]];
-  m.adaptor = {m.sorted.data(), m.sorted.size()};
-  m.tree = std::make_unique<Tree>(3, m.adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize));
-  // Permute into leaf order (slot j takes the point at vAcc[j]); the nodes refer to positions in vAcc, not to
-  // points, so they stay valid once vAcc is the identity. In place, cycle by cycle, with vAcc[k] == k marking
-  // a finished slot: no second copy of the points (16 bytes a point less at the build's peak).
-  auto& vacc = m.tree->vAcc;
-  for (std::size_t start = 0; start < vacc.size(); ++start) {
-    if (vacc[start] == start) continue;
-    const Eigen::Vector3f first_point = m.sorted[start];
-    const std::uint32_t first_id = m.ids[start];
-    std::size_t k = start;
-    while (vacc[k] != start) {
-      const std::size_t from = vacc[k];
-      m.sorted[k] = m.sorted[from];
-      m.ids[k] = m.ids[from];
-      vacc[k] = static_cast<std::uint32_t>(k);
-      k = from;
-    }
-    m.sorted[k] = first_point;
-    m.ids[k] = first_id;
-    vacc[k] = static_cast<std::uint32_t>(k);
+  std::size_t finite = 0;
+  for (const auto& p : points) finite += is_finite(p);
+  m.count = finite;
+  if (finite == 0) return;
+  m.nodes.reserve(2 * (finite / (kLeafSize / 2)) + 1);
+
+  // First over the caller's points in place: when they are already in leaf order no split moves anything and
+  // no copy is made. Otherwise (the first split that would move a point stops it) over a copy.
+  bool in_place = true;
+  for (std::size_t i = 0; i < finite && in_place; ++i) in_place = is_finite(points[i]);
+  if (in_place) {
+    m.pts = points.data();
+    m.box = bounds_of(m.pts, 0, finite);
+    Box box = m.box;
+    Builder builder(m.pts, nullptr, nullptr);
+    builder.build(m.nodes, 0, 0, finite, box);
+    in_place = !builder.failed();
   }
+  if (!in_place) {
+    m.nodes.clear();
+    m.sorted.reserve(finite);
+    m.ids.reserve(finite);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (is_finite(points[i])) {
+        m.sorted.push_back(points[i]);
+        m.ids.push_back(static_cast<std::uint32_t>(i));
+      }
+    m.pts = m.sorted.data();
+    m.box = bounds_of(m.pts, 0, finite);
+    Box box = m.box;
+    Builder builder(m.pts, m.sorted.data(), m.ids.data());
+    builder.build(m.nodes, 0, 0, finite, box);
+  }
+  m.nodes.shrink_to_fit();
 }
 
 KdTree::~KdTree() = default;
@@ -157,28 +380,28 @@ KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
 std::size_t KdTree::size() const { return impl_ ? impl_->points->size() : 0; }
 
-const std::vector<std::uint32_t>& KdTree::spatial_order() const {
-  static const std::vector<std::uint32_t> none;  // a moved-from tree
-  return impl_ ? impl_->ids : none;
+SpatialOrder KdTree::spatial_order() const {
+  if (!impl_) return {nullptr, 0};
+  return {impl_->id_map(), impl_->count};
 }
 
 const std::vector<Eigen::Vector3f>& KdTree::points() const { return *impl_->points; }
 
 void KdTree::knn(const Eigen::Vector3f& query, int k, std::vector<Neighbor>& out) const {
   out.clear();
-  if (!impl_ || !impl_->tree || k <= 0 || !is_finite(query)) return;
-  const std::size_t kk = std::min<std::size_t>(static_cast<std::size_t>(k), impl_->adaptor.count);
+  if (!impl_ || impl_->count == 0 || k <= 0 || !is_finite(query)) return;
+  const std::size_t kk = std::min<std::size_t>(static_cast<std::size_t>(k), impl_->count);
   out.resize(kk);
-  KnnSet set(out.data(), kk, impl_->ids.data());
-  impl_->tree->findNeighbors(set, query.data(), nanoflann::SearchParams());
+  KnnSet set(out.data(), kk, impl_->id_map());
+  impl_->find(set, query);
   out.resize(set.size());
 }
 
 Neighbor KdTree::nearest(const Eigen::Vector3f& query) const {
   Neighbor best{std::numeric_limits<std::uint32_t>::max(), std::numeric_limits<float>::infinity()};
-  if (!impl_ || !impl_->tree || !is_finite(query)) return best;
-  KnnSet set(&best, 1, impl_->ids.data());
-  impl_->tree->findNeighbors(set, query.data(), nanoflann::SearchParams());
+  if (!impl_ || impl_->count == 0 || !is_finite(query)) return best;
+  KnnSet set(&best, 1, impl_->id_map());
+  impl_->find(set, query);
   return best;
 }
 
@@ -191,15 +414,15 @@ void KdTree::radius(const Eigen::Vector3f& query, float radius_mm, std::vector<N
 
 void KdTree::radius_unsorted(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const {
   out.clear();
-  if (!impl_ || !impl_->tree || !(radius_mm >= 0) || !is_finite(query)) return;
-  RadiusSet set(radius_mm * radius_mm, out, impl_->ids.data());
-  impl_->tree->findNeighbors(set, query.data(), nanoflann::SearchParams());
+  if (!impl_ || impl_->count == 0 || !(radius_mm >= 0) || !is_finite(query)) return;
+  RadiusSet set(radius_mm * radius_mm, out, impl_->id_map());
+  impl_->find(set, query);
 }
 
 std::size_t KdTree::count_within(const Eigen::Vector3f& query, float radius_mm, std::size_t stop_at) const {
-  if (!impl_ || !impl_->tree || stop_at == 0 || !(radius_mm >= 0) || !is_finite(query)) return 0;
+  if (!impl_ || impl_->count == 0 || stop_at == 0 || !(radius_mm >= 0) || !is_finite(query)) return 0;
   CountSet set(radius_mm * radius_mm, stop_at);
-  impl_->tree->findNeighbors(set, query.data(), nanoflann::SearchParams());
+  impl_->find(set, query);
   return set.size();
 }
 

@@ -10,6 +10,15 @@
 
 namespace ewis {
 
+// Slot j of the tree's leaf order holds the caller's point (*this)[j]; the identity when the tree uses the
+// caller's points in place.
+struct SpatialOrder {
+  const std::uint32_t* ids = nullptr;  // null: the identity
+  std::size_t count = 0;
+  std::size_t size() const { return count; }
+  std::uint32_t operator[](std::size_t j) const { return ids ? ids[j] : static_cast<std::uint32_t>(j); }
+};
+
 struct Neighbor {
   std::uint32_t index;
   float distance_sq;  // squared distance, mm^2
@@ -26,7 +35,9 @@ class KdTree {
   const std::vector<Eigen::Vector3f>& points() const;
   // The indices of the finite points in the tree's leaf order (neighbours in space are neighbours here):
   // whole-cloud passes that query every point in this order hit the cache far more often.
-  const std::vector<std::uint32_t>& spatial_order() const;
+  // Permuting a cloud by it (new[j] = old[order[j]]) puts the cloud into leaf order: a tree built over the
+  // permuted points is the same tree and makes no copy.
+  SpatialOrder spatial_order() const;
 
   // The k nearest points (fewer when the cloud is smaller), nearest first; ties by index.
   void knn(const Eigen::Vector3f& query, int k, std::vector<Neighbor>& out) const;
