@@ -158,7 +158,10 @@ TEST(ReadObjMesh, RandomScenesAsAssimp) {
       }
       defined += n;
       text += "f";
-      for (int k = 0; k < n; ++k) text += " " + std::to_string(rng() % 2 ? defined - n + k + 1 : k - n);
+      for (int k = 0; k < n; ++k) {
+        text += ' ';  // (not " " + to_string: g++ 12 warns -Wrestrict on that inside char_traits)
+        text += std::to_string(rng() % 2 ? defined - n + k + 1 : k - n);
+      }
       text += "\n";
       if (defined > n) text += "f " + std::to_string(defined) + " " + std::to_string(defined - n) + " 1\n";
     }
