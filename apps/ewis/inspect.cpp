@@ -54,10 +54,7 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
 
     const auto tw = clock::now();
     ensure_directory(opt->out);
-    const ResultClouds clouds = result_clouds(result);
-    write_ply(clouds.cables, opt->out + "/cables.ply");
-    write_ply(clouds.interferences, opt->out + "/interferences.ply");
-    write_ply(clouds.rest, opt->out + "/rest.ply");
+    write_result_clouds(result, opt->out);  // one at a time, before the report renders its pictures
     ReportParams report_params;
     report_params.scan_name = opt->scan;
     write_report_files(result, scene, plan, opt->out, ReportFiles{}, report_params);  // report.html

@@ -61,39 +61,73 @@ ClusterResult euclidean_clusters(const KdTree& tree, const std::vector<std::uint
   // members: the points clustered (a subset may hold repeats or out-of-range indices: ignore them;
   // non-finite points belong to no cluster)
   const auto& pts = tree.points();
-  std::vector<std::uint8_t> member(n, subset.empty() ? 1 : 0);
-  for (std::uint32_t i : subset)
-    if (i < n) member[i] = 1;
-  for (std::size_t i = 0; i < n; ++i)
-    if (member[i] && !pts[i].allFinite()) member[i] = 0;
-  std::vector<std::uint32_t> order;  // the members, increasing
-  order.reserve(subset.empty() ? n : subset.size());
-  for (std::size_t i = 0; i < n; ++i)
-    if (member[i]) order.push_back(static_cast<std::uint32_t>(i));
-
-  ConcurrentUnionFind uf(n);
+  std::vector<std::uint32_t> order;  // the members, increasing; the union-find works on their slots in it
+  // A subset of at most 1/8 of the cloud is handled in memory proportional to it (binary search for a
+  // neighbour's slot), so clustering a few thousand points of a million-point cloud costs no per-cloud
+  // arrays (issue 8: inspect's peak memory).
+  const bool compact = !subset.empty() && subset.size() <= n / 8;
+  std::vector<std::uint8_t> member;
+  if (compact) {
+    order.reserve(subset.size());
+    for (std::uint32_t i : subset)
+      if (i < n && pts[i].allFinite()) order.push_back(i);
+    std::sort(order.begin(), order.end());
+    order.erase(std::unique(order.begin(), order.end()), order.end());
+  } else {
+    member.assign(n, subset.empty() ? 1 : 0);
+    for (std::uint32_t i : subset)
+      if (i < n) member[i] = 1;
+    for (std::size_t i = 0; i < n; ++i)
+      if (member[i] && !pts[i].allFinite()) member[i] = 0;
+    order.reserve(subset.empty() ? n : subset.size());
+    for (std::size_t i = 0; i < n; ++i)
+      if (member[i]) order.push_back(static_cast<std::uint32_t>(i));
+  }
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  // slot of point i in `order`, kNone when i is not a member
+  auto slot_of = [&](std::uint32_t i) -> std::uint32_t {
+    if (!compact) return member[i] ? i : kNone;
+    const auto it = std::lower_bound(order.begin(), order.end(), i);
+    return it != order.end() && *it == i ? static_cast<std::uint32_t>(it - order.begin()) : kNone;
+  };
+  // Union-find over point indices (whole cloud) or slots (compact); both orders follow the point index, so a
+  // root is always its component's smallest member.
+  ConcurrentUnionFind uf(compact ? order.size() : n);
   const float tol = tolerance_mm > 0 ? static_cast<float>(tolerance_mm) : 0.0f;
-  // queries in the tree's spatial order (cache locality); the components do not depend on the order
-  const auto& spatial = tree.spatial_order();
-  parallel_blocks(spatial.size(), 1024, [&](std::size_t b, std::size_t e) {
-    std::vector<Neighbor> nb;
-    for (std::size_t j = b; j < e; ++j) {
-      const std::uint32_t i = spatial[j];
-      if (!member[i]) continue;
-      tree.radius_unsorted(pts[i], tol, nb);
-      // each pair is seen from both ends: link from the larger index only
-      for (const Neighbor& q : nb)
-        if (q.index < i && member[q.index]) uf.unite(i, q.index);
-    }
-  });
+  auto link = [&](std::uint32_t i, std::uint32_t key, std::vector<Neighbor>& nb) {
+    tree.radius_unsorted(pts[i], tol, nb);
+    // each pair is seen from both ends: link from the larger index only
+    for (const Neighbor& q : nb)
+      if (q.index < i) {
+        const std::uint32_t other = slot_of(q.index);
+        if (other != kNone) uf.unite(key, other);
+      }
+  };
+  if (compact) {
+    parallel_blocks(order.size(), 256, [&](std::size_t b, std::size_t e) {
+      std::vector<Neighbor> nb;
+      for (std::size_t j = b; j < e; ++j) link(order[j], static_cast<std::uint32_t>(j), nb);
+    });
+  } else {
+    // queries in the tree's spatial order (cache locality); the components do not depend on the order
+    const auto& spatial = tree.spatial_order();
+    parallel_blocks(spatial.size(), 1024, [&](std::size_t b, std::size_t e) {
+      std::vector<Neighbor> nb;
+      for (std::size_t j = b; j < e; ++j) {
+        const std::uint32_t i = spatial[j];
+        if (member[i]) link(i, i, nb);
+      }
+    });
+  }
 
   // Roots are the smallest member of each component; group in increasing index order.
   std::vector<std::uint32_t> root(order.size());
-  parallel_for_each_index(order.size(), [&](std::size_t j) { root[j] = uf.find(order[j]); });
+  parallel_for_each_index(order.size(), [&](std::size_t j) {
+    root[j] = uf.find(compact ? static_cast<std::uint32_t>(j) : order[j]);
+  });
   // Component ids in order of first appearance = order of smallest index; sizes first, so that the many
   // one-point components of an outlier-rich scan cost no allocation.
-  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> slot(n, kNone);
+  std::vector<std::uint32_t> slot(compact ? order.size() : n, kNone);
   std::vector<std::uint32_t> sizes;
   for (std::size_t j = 0; j < order.size(); ++j) {
     std::uint32_t& s = slot[root[j]];

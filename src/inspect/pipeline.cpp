@@ -13,6 +13,7 @@
 #include "ewis/inspect/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/core/scratch.hpp"
+#include "ewis/search/spatial_sort.hpp"
 #include "ewis/sample/mesh_sampling.hpp"
 #include "ewis/search/kdtree.hpp"
 
@@ -65,6 +66,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("filter", 0.0);
   std::vector<std::uint32_t> kept;
   {
+    sort_for_search(scan);  // its tree then makes no copy (issue 8: peak memory)
     const KdTree tree(scan.points);
     RadiusOutlierResult ror = remove_radius_outliers(tree, params.outliers);
     res.outlier_radius_mm = ror.radius_mm;
@@ -73,7 +75,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   }  // the scan's tree is freed before the copy
   Cloud filtered = select(scan, kept);
   scan = Cloud{};
-  kept = {};
+  release_memory(kept);
   return_free_heap_to_os();  // the scan's tree: peak memory is set by the phases, not by what they left
   res.filtered_points = filtered.size();
   if (filtered.size() < 10) throw ProcessingError("fewer than 10 scan points are left after outlier removal");
@@ -115,6 +117,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     for (auto& p : res.cloud.points) p = rot * p + tr;
     for (auto& n : res.cloud.normals) n = rot * n;
   }
+  // In the tree's leaf order, the tree below makes no copy of the points (issue 8: peak memory).
+  sort_for_search(res.cloud);
   const Cloud& cloud = res.cloud;
   const KdTree tree(cloud.points);
   res.resolution_mm = spatial_resolution(tree, 200000).median_mm;
@@ -141,6 +145,10 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   }, 2048);
   std::vector<std::uint8_t> usable(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) usable[i] = rigid_label[i] < 0 ? 1 : 0;
+  std::vector<std::size_t> points_on_element(scene.elements.size(), 0);  // the rigid elements' point counts
+  for (std::int32_t l : rigid_label)
+    if (l >= 0) ++points_on_element[l];
+  release_memory(rigid_label);
   clock.lap("prepare");
 
   // paper 4.2: every cable of the plan, traced from its registered CAD samples.
@@ -363,7 +371,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       RigidInspection r;
       r.name = e.name;
       r.element = scene.find(e.name);
-      for (std::int32_t l : rigid_label) r.points += (l == r.element) ? 1 : 0;
+      if (r.element >= 0) r.points = points_on_element[r.element];
       res.rigid.push_back(r);
     }
   }

@@ -1,6 +1,7 @@
 #include <array>
 
 #include "ewis/inspect/pipeline.hpp"
+#include "ewis/io/cloud_io.hpp"
 
 namespace ewis {
 
@@ -10,35 +11,59 @@ Rgb cable_color(std::size_t index) {
   return palette[index % palette.size()];
 }
 
-ResultClouds result_clouds(const InspectionResult& r) {
-  ResultClouds out;
+Cloud result_cloud(const InspectionResult& r, ResultPart part) {
   const Cloud& c = r.cloud;
-  // 0 rest, 1 cable, 2 interference (interference wins: it is what a person looks for).
-  std::vector<std::uint8_t> kind(c.size(), 0);
-  std::vector<Rgb> color(c.size(), Rgb{160, 160, 160});
+  // Per point: 0 rest, 1 + k cable k, kClash / kForeign an interference cluster (with a CAD element / foreign).
+  // Interference wins over the rest, a cable over an interference (it is what a person looks for).
+  constexpr std::uint16_t kClash = 65534, kForeign = 65535;
+  std::vector<std::uint16_t> tag(c.size(), 0);
   for (std::size_t k = 0; k < r.cables.size(); ++k) {
     if (!r.cables[k].found) continue;
+    const auto t = static_cast<std::uint16_t>(1 + k % 8);  // the palette has 8 colours
     for (std::uint32_t i : r.cables[k].trace.points)
-      if (i < c.size()) {
-        kind[i] = 1;
-        color[i] = cable_color(k);
-      }
+      if (i < c.size()) tag[i] = t;
   }
   for (const CableInspection& ci : r.cables)
-    for (const Interference& f : ci.interferences) {
-      const Rgb col = f.with ? Rgb{255, 140, 0} : Rgb{230, 20, 20};  // orange: a CAD element, red: foreign
+    for (const Interference& f : ci.interferences)
       for (std::uint32_t i : f.points)
-        if (i < c.size() && kind[i] != 1) {
-          kind[i] = 2;
-          color[i] = col;
-        }
+        if (i < c.size() && (tag[i] == 0 || tag[i] >= kClash)) tag[i] = f.with ? kClash : kForeign;
+  auto in_part = [&](std::uint16_t t) {
+    switch (part) {
+      case ResultPart::Cables: return t > 0 && t < kClash;
+      case ResultPart::Interferences: return t >= kClash;
+      case ResultPart::Rest: return t == 0;
     }
+    return false;
+  };
+  std::size_t count = 0;
+  for (std::uint16_t t : tag) count += in_part(t);
+  Cloud out;
+  out.points.reserve(count);
+  out.colors.reserve(count);
   for (std::size_t i = 0; i < c.size(); ++i) {
-    Cloud& dst = kind[i] == 1 ? out.cables : (kind[i] == 2 ? out.interferences : out.rest);
-    dst.points.push_back(c.points[i]);
-    dst.colors.push_back(color[i]);
+    const std::uint16_t t = tag[i];
+    if (!in_part(t)) continue;
+    out.points.push_back(c.points[i]);
+    out.colors.push_back(t == 0 ? Rgb{160, 160, 160}
+                                : t == kClash ? Rgb{255, 140, 0}      // orange: a CAD element
+                                : t == kForeign ? Rgb{230, 20, 20}    // red: foreign
+                                : cable_color(t - 1u));
   }
   return out;
+}
+
+ResultClouds result_clouds(const InspectionResult& r) {
+  ResultClouds out;
+  out.cables = result_cloud(r, ResultPart::Cables);
+  out.interferences = result_cloud(r, ResultPart::Interferences);
+  out.rest = result_cloud(r, ResultPart::Rest);
+  return out;
+}
+
+void write_result_clouds(const InspectionResult& r, const std::string& dir) {
+  write_ply(result_cloud(r, ResultPart::Cables), dir + "/cables.ply");
+  write_ply(result_cloud(r, ResultPart::Interferences), dir + "/interferences.ply");
+  write_ply(result_cloud(r, ResultPart::Rest), dir + "/rest.ply");
 }
 
 }  // namespace ewis

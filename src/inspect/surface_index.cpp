@@ -28,6 +28,13 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
   return a + ab * v + ac * w;
 }
 
+namespace {
+
+// Nodes of the tree build() makes over n triangles: median splits down to leaves of at most 4.
+std::size_t node_count(std::size_t n) { return n <= 4 ? 1 : 1 + node_count(n / 2) + node_count(n - n / 2); }
+
+}  // namespace
+
 SurfaceIndex::SurfaceIndex(const Scene& scene, const std::vector<int>& elements) : scene_(&scene) {
   for (int e : elements) {
     if (e < 0 || std::size_t(e) >= scene.elements.size()) continue;
@@ -43,7 +50,7 @@ SurfaceIndex::SurfaceIndex(const Scene& scene, const std::vector<int>& elements)
     const auto& tri = scene.triangles[t];
     centroids[t] = (scene.vertices[tri[0]] + scene.vertices[tri[1]] + scene.vertices[tri[2]]) / 3.0f;
   }
-  nodes_.reserve(2 * order_.size() / 2 + 1);
+  nodes_.reserve(node_count(order_.size()));
   build(0, static_cast<std::uint32_t>(order_.size()), centroids, 0);
 }
 

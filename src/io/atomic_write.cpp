@@ -17,33 +17,73 @@
 
 namespace ewis {
 
-void write_file_atomic(const std::string& path, const void* data, std::size_t size) {
-  if (path.empty()) throw InputError(path, "empty output file name");
-  // Unique per process, thread and moment: parallel writers of different files never share a temporary.
-  const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
-  const std::size_t tid = std::hash<std::thread::id>{}(std::this_thread::get_id());
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(tid % 100000) + "." +
-                          std::to_string(stamp % 1000000000);
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
-  const char* p = static_cast<const char*>(data);
-  std::size_t left = size;
-  int err = 0;
-  while (left > 0) {
-    const ssize_t n = ::write(fd, p, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      err = errno;
-      break;
+namespace {
+
+// A temporary file next to `path`, renamed onto it by commit(); removed when not committed.
+class AtomicFile {
+ public:
+  explicit AtomicFile(const std::string& path) : path_(path) {
+    if (path.empty()) throw InputError(path, "empty output file name");
+    // Unique per process, thread and moment: parallel writers of different files never share a temporary.
+    const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
+    const std::size_t tid = std::hash<std::thread::id>{}(std::this_thread::get_id());
+    tmp_ = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(tid % 100000) + "." +
+           std::to_string(stamp % 1000000000);
+    fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
+  }
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!committed_) ::unlink(tmp_.c_str());
+  }
+
+  void write(const void* data, std::size_t size) {
+    const char* p = static_cast<const char*>(data);
+    while (size > 0) {
+      const ssize_t n = ::write(fd_, p, size);
+      if (n < 0) {
+        if (errno == EINTR) continue;
+        fail(errno);
+      }
+      p += n, size -= static_cast<std::size_t>(n);
     }
-    p += n, left -= static_cast<std::size_t>(n);
   }
-  if (::close(fd) != 0 && !err) err = errno;
-  if (!err && std::rename(tmp.c_str(), path.c_str()) != 0) err = errno;
-  if (err) {
-    ::unlink(tmp.c_str());
-    throw InputError(path, std::string("cannot write: ") + std::strerror(err));
+
+  void commit() {
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) fail(errno);
+    if (std::rename(tmp_.c_str(), path_.c_str()) != 0) fail(errno);
+    committed_ = true;
   }
+
+ private:
+  [[noreturn]] void fail(int err) { throw InputError(path_, std::string("cannot write: ") + std::strerror(err)); }
+
+  std::string path_, tmp_;
+  int fd_ = -1;
+  bool committed_ = false;
+};
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, const void* data, std::size_t size) {
+  AtomicFile f(path);
+  f.write(data, size);
+  f.commit();
+}
+
+void write_file_atomic_chunked(const std::string& path, const std::function<bool(std::string&)>& next) {
+  AtomicFile f(path);
+  std::string chunk;
+  for (bool more = true; more;) {
+    chunk.clear();
+    more = next(chunk);
+    f.write(chunk.data(), chunk.size());
+  }
+  f.commit();
 }
 
 void write_file_atomic(const std::string& path, const std::string& contents) {

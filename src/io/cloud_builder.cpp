@@ -152,8 +152,8 @@ CloudFile CloudBuilder::finish(std::vector<std::string> file_fields, std::size_t
       c.colors[i] = {std::uint8_t((v >> 16) & 0xff), std::uint8_t((v >> 8) & 0xff), std::uint8_t(v & 0xff)};
     }
   }
-  channel_[0] = channel_[1] = channel_[2] = {};
-  packed_ = {};
+  for (auto& c : channel_) release_memory(c);
+  release_memory(packed_);
 
   // Scale, then keep finite points in order (compaction in place, attributes alongside). The common case,
   // all finite, only reads the points.

@@ -23,15 +23,22 @@ CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const
   CadTarget t;
   t.spacing_mm = params.spacing_mm;
   t.cable_margin_mm = params.cable_margin_mm;
+  t.rigid_elements = rigid;
+  t.max_points = params.max_points;
+  t.seed = params.seed;
   MeshSamplingParams sp;
   sp.spacing_mm = params.spacing_mm;
   sp.max_points = params.max_points;
   sp.seed = params.seed;
   sp.elements = rigid;
-  MeshSamples rs = sample_mesh(scene, sp);
-  t.rigid = std::move(rs.cloud);
-  t.rigid_element = std::move(rs.element);
-  if (t.rigid.empty()) throw InputError("", "registration: sampling the rigid CAD elements gave no points");
+  if (params.sample_up_front) {
+    MeshSamples rs = sample_mesh(scene, sp);
+    t.rigid = std::move(rs.cloud);
+    t.rigid_element = std::move(rs.element);
+    if (t.rigid.empty()) throw InputError("", "registration: sampling the rigid CAD elements gave no points");
+  } else {
+    t.scene = &scene;
+  }
   if (!cables.empty()) {
     sp.elements = cables;
     sp.seed = params.seed + 1;
@@ -39,6 +46,80 @@ CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const
     if (!t.cables.empty()) t.cable_tree = std::make_unique<KdTree>(t.cables.points);
   }
   return t;
+}
+
+bool has_rigid(const CadTarget& target) { return !target.rigid.empty() || target.scene; }
+
+namespace {
+
+bool facing(const Eigen::Vector3f& q, const Eigen::Vector3f& normal, const Eigen::Vector3d& eye) {
+  const Eigen::Vector3d to_eye = eye - q.cast<double>();
+  return normal.cast<double>().dot(to_eye) > -0.2 * to_eye.norm();
+}
+
+bool inside(const Eigen::Vector3f& q, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
+  return !((q.array() < lo.array()).any() || (q.array() > hi.array()).any());
+}
+
+// The scene with only the rigid triangles whose bounds reach into [lo, hi] and, with an eye, that face it at
+// some corner (element indices kept; the other elements empty).
+Scene rigid_part(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                 const Eigen::Vector3d* eye) {
+  const Scene& scene = *target.scene;
+  Scene part;
+  part.vertices = scene.vertices;
+  part.elements = scene.elements;
+  for (Element& e : part.elements) e.triangle_count = 0;
+  for (int ei : target.rigid_elements) {
+    const Element& e = scene.elements[ei];
+    part.elements[ei].first_triangle = static_cast<std::uint32_t>(part.triangles.size());
+    for (std::uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
+      const Eigen::Vector3i& tri = scene.triangles[t];
+      const Eigen::Vector3f& a = scene.vertices[tri[0]];
+      const Eigen::Vector3f& b = scene.vertices[tri[1]];
+      const Eigen::Vector3f& c = scene.vertices[tri[2]];
+      const Eigen::Vector3f tlo = a.cwiseMin(b).cwiseMin(c), thi = a.cwiseMax(b).cwiseMax(c);
+      if ((thi.array() < lo.array()).any() || (tlo.array() > hi.array()).any()) continue;
+      if (eye) {
+        const Eigen::Vector3f n = (b - a).cross(c - a).normalized();
+        if (!facing(a, n, *eye) && !facing(b, n, *eye) && !facing(c, n, *eye)) continue;
+      }
+      part.triangles.push_back(tri);
+      part.triangle_element.push_back(static_cast<std::uint32_t>(ei));
+      ++part.elements[ei].triangle_count;
+    }
+  }
+  update_element_stats(part);
+  return part;
+}
+
+Cloud draw(const Scene& scene, const CadTarget& target) {
+  MeshSamplingParams sp;
+  sp.spacing_mm = target.spacing_mm;
+  sp.max_points = target.max_points;
+  sp.seed = target.seed;
+  for (int e : target.rigid_elements)
+    if (scene.elements[e].triangle_count > 0) sp.elements.push_back(e);
+  if (sp.elements.empty()) return {};
+  return std::move(sample_mesh(scene, sp).cloud);
+}
+
+}  // namespace
+
+Cloud sample_rigid_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                        const Eigen::Vector3d* eye) {
+  Cloud drawn;
+  if (target.rigid.empty() && target.scene) drawn = draw(rigid_part(target, lo, hi, eye), target);
+  const Cloud& t = target.rigid.empty() ? drawn : target.rigid;
+  const std::vector<std::uint32_t> keep = parallel_select(t.size(), [&](std::size_t i) {
+    return inside(t.points[i], lo, hi) && (!eye || facing(t.points[i], t.normals[i], *eye));
+  });
+  return select(t, keep);
+}
+
+Cloud sample_rigid_all(const CadTarget& target) {
+  if (!target.rigid.empty() || !target.scene) return target.rigid;
+  return draw(*target.scene, target);
 }
 
 std::vector<std::uint32_t> points_away_from_cables(const std::vector<Eigen::Vector3f>& source,

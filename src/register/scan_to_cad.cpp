@@ -20,6 +20,7 @@
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
 #include "ewis/register/veil_points.hpp"
+#include "ewis/search/spatial_sort.hpp"
 
 namespace ewis {
 namespace {
@@ -47,17 +48,9 @@ TargetView view_of(const CadTarget& target, const std::vector<Eigen::Vector3f>& 
   }
   const Eigen::Vector3f blo = (lo.array() - margin_mm).cast<float>(), bhi = (hi.array() + margin_mm).cast<float>();
   const Eigen::Vector3d eye = pose * viewpoint;
-  const Cloud& t = target.rigid;
-  const std::vector<std::uint32_t> keep = parallel_select(t.size(), [&](std::size_t i) {
-    const Eigen::Vector3f& q = t.points[i];
-    if ((q.array() < blo.array()).any() || (q.array() > bhi.array()).any()) return false;
-    if (!cull_back_faces) return true;
-    // Keep normals at most ~100 deg from the direction to the sensor (grazing walls stay, far sides go).
-    const Eigen::Vector3d to_eye = eye - q.cast<double>();
-    return t.normals[i].cast<double>().dot(to_eye) > -0.2 * to_eye.norm();
-  });
   TargetView v;
-  v.cloud = select(t, keep);
+  v.cloud = sample_rigid_view(target, blo, bhi, cull_back_faces ? &eye : nullptr);
+  sort_for_search(v.cloud);  // its tree then makes no copy (issue 8: peak memory)
   v.tree = std::make_unique<KdTree>(v.cloud.points);
   return v;
 }
@@ -127,7 +120,11 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
     Cloud source;
     source.points = scan;
-    const GlobalRegistrationResult g = register_global(source, target.rigid, params.global, progress);
+    // Every rigid sample (drawn now when the target samples per view; freed when the search is done).
+    Cloud drawn;
+    if (target.rigid.empty()) drawn = sample_rigid_all(target);
+    const Cloud& all = target.rigid.empty() ? drawn : target.rigid;
+    const GlobalRegistrationResult g = register_global(source, all, params.global, progress);
     // Symmetric parts of a scene (a plate, rows of blocks) give near-ties at the coarse scale: re-rank all the
     // candidates by their fitness on the full-resolution target at a tighter distance, then the full ICP of the
     // first few decides.
@@ -136,9 +133,9 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
     for (std::size_t i = 0; i < scan.size(); i += stride) probe.push_back(static_cast<std::uint32_t>(i));
     const double tight = std::max(0.4 * g.voxel_mm, 3.0);
     std::vector<std::pair<double, std::size_t>> ranked;
-    const KdTree rigid_tree(target.rigid.points);
+    const KdTree rigid_tree(all.points);
     for (std::size_t i = 0; i < g.candidates.size(); ++i)
-      ranked.emplace_back(evaluate_registration(scan, target.rigid, rigid_tree,
+      ranked.emplace_back(evaluate_registration(scan, all, rigid_tree,
                                                 g.candidates[i].source_to_target, tight, probe)
                               .fitness,
                           i);
@@ -162,7 +159,7 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
                                      const std::optional<Pose>& initial_scan_to_cad, const ScanToCadParams& params,
                                      const ProgressFn& progress) {
   if (scan.empty()) throw InputError("", "registration: the scan has no points");
-  if (target.rigid.empty()) throw InputError("", "registration: empty CAD target");
+  if (!has_rigid(target)) throw InputError("", "registration: empty CAD target");
   // An even spread over the image (the scan is in raster order)
   const std::vector<Eigen::Vector3f> sub = pick(scan.points, evenly_strided(scan.size(), params.max_scan_points));
   const double per_point = static_cast<double>(scan.size()) / static_cast<double>(sub.size());

@@ -1,4 +1,6 @@
 // Per-point labels of the inspected scan: which cable, which interference cluster, or the rest.
+#include <algorithm>
+
 #include "ewis/report/pictures.hpp"
 
 namespace ewis {
@@ -16,7 +18,7 @@ PointLabels label_points(const InspectionResult& r) {
     for (std::uint32_t i : r.cables[k].trace.points)
       if (i < n) {
         l.kind[i] = PointKind::Cable;
-        l.cable[i] = static_cast<std::int32_t>(k);
+        l.cable[i] = static_cast<std::int16_t>(std::min<std::size_t>(k, 32767));
       }
   }
   // Interference clusters come after all cables so a point claimed by another cable stays that cable's
@@ -26,7 +28,7 @@ PointLabels label_points(const InspectionResult& r) {
       for (std::uint32_t i : f.points)
         if (i < n && l.kind[i] != PointKind::Cable) {
           l.kind[i] = PointKind::Interference;
-          l.cable[i] = static_cast<std::int32_t>(k);
+          l.cable[i] = static_cast<std::int16_t>(std::min<std::size_t>(k, 32767));
           l.foreign[i] = f.with ? 0 : 1;
         }
   return l;

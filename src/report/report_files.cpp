@@ -19,10 +19,7 @@ void write_report_files(const InspectionResult& result, const Scene& scene, cons
   if (files.html) html = report_html(result, scene, plan, params);
   if (files.json) json = report_to_json(result, plan);
   if (files.clouds) {
-    const ResultClouds clouds = result_clouds(result);
-    write_ply(clouds.cables, out_dir + "/cables.ply");
-    write_ply(clouds.interferences, out_dir + "/interferences.ply");
-    write_ply(clouds.rest, out_dir + "/rest.ply");
+    write_result_clouds(result, out_dir);
   }
   if (files.html) write_file_atomic(out_dir + "/report.html", html);
   if (files.json) write_file_atomic(out_dir + "/report.json", json);

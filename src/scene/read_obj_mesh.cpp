@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "ewis/core/error.hpp"
+#include "ewis/core/scratch.hpp"
 #include "obj_line_reader.hpp"
 
 namespace ewis::detail {
@@ -396,9 +397,9 @@ class ObjParser {
 };
 
 Scene ObjParser::finish(std::size_t* dropped_degenerate) {
-  positions_ = {};
-  stamp_ = {};
-  local_ = {};
+  release_memory(positions_);
+  release_memory(stamp_);
+  release_memory(local_);
   if (dropped_degenerate) *dropped_degenerate = degenerate_;
   if (triangles_.empty())
     throw InputError(path_, degenerate_ > 0 ? "mesh has only degenerate (zero-area) triangles" : "mesh has no triangles");
@@ -433,8 +434,8 @@ Scene ObjParser::finish(std::size_t* dropped_degenerate) {
       scene.vertices.insert(scene.vertices.end(), vertices_.begin() + g.first_vertex, vertices_.begin() + vend);
       for (std::size_t t = g.first_triangle; t < tend; ++t) scene.triangles.push_back(triangles_[t].array() + shift);
     }
-    vertices_ = {};
-    triangles_ = {};
+    release_memory(vertices_);
+    release_memory(triangles_);
   }
   scene.triangle_element.reserve(scene.triangles.size());
   for (std::size_t e = 0; e < elements; ++e) {

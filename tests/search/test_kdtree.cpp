@@ -8,6 +8,7 @@
 #include <random>
 
 #include "ewis/search/kdtree.hpp"
+#include "ewis/search/spatial_sort.hpp"
 
 using namespace ewis;
 
@@ -222,4 +223,60 @@ TEST(KdTree, BatchesMatchSingleQueriesForAnyThreadCount) {
     for (int j = 0; j < 5; ++j) EXPECT_EQ(k1[i][j].index, k2[i][j].index);
     EXPECT_EQ(k1[i][0].index, nn.index);
   }
+}
+
+// sort_for_search: the same points and attributes, permuted together; a tree over the sorted cloud uses the
+// points in place (identity spatial order) and answers as a tree over the original cloud, indices mapped.
+TEST(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  Cloud cloud;
+  cloud.points = random_cloud(21, 5000);
+  for (std::size_t i = 0; i < cloud.points.size(); i += 97) cloud.points[i] = {nan, nan, nan};
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    cloud.normals.emplace_back(float(i), 0.f, 1.f);
+    cloud.colors.push_back({std::uint8_t(i % 251), std::uint8_t(i / 251 % 256), 7});
+    cloud.intensities.push_back(float(i) * 0.5f);
+  }
+  cloud.scalars.push_back({"id", {}});
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) cloud.scalars[0].values.push_back(float(i));
+  const Cloud original = cloud;
+  const KdTree before(original.points);
+  ASSERT_NE(before.spatial_order().ids, nullptr);  // random order: the tree copies
+
+  sort_for_search(cloud);
+  ASSERT_EQ(cloud.size(), original.size());
+  std::vector<bool> seen(cloud.size(), false);
+  std::size_t finite = 0;
+  for (std::size_t j = 0; j < cloud.size(); ++j) {
+    const auto i = static_cast<std::size_t>(cloud.scalars[0].values[j]);  // where slot j came from
+    ASSERT_LT(i, cloud.size());
+    EXPECT_FALSE(seen[i]);
+    seen[i] = true;
+    if (original.points[i].allFinite()) {
+      EXPECT_EQ(j, finite++) << "finite points first";
+      EXPECT_EQ(cloud.points[j], original.points[i]);
+    } else {
+      EXPECT_FALSE(cloud.points[j].allFinite());
+    }
+    EXPECT_EQ(cloud.normals[j], original.normals[i]);
+    EXPECT_EQ(cloud.colors[j], original.colors[i]);
+    EXPECT_EQ(cloud.intensities[j], original.intensities[i]);
+  }
+
+  const KdTree after(cloud.points);
+  EXPECT_EQ(after.spatial_order().ids, nullptr);  // no copy: the points are used where they are
+  std::vector<Neighbor> a, b;
+  for (const auto& q : queries(5, 40, 55.f)) {
+    before.knn(q, 9, a);
+    after.knn(q, 9, b);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t r = 0; r < a.size(); ++r) {
+      EXPECT_EQ(a[r].distance_sq, b[r].distance_sq);
+      EXPECT_EQ(original.points[a[r].index], cloud.points[b[r].index]);
+    }
+    EXPECT_EQ(before.count_within(q, 6.f, 1000), after.count_within(q, 6.f, 1000));
+  }
+  const Cloud sorted = cloud;
+  sort_for_search(cloud);  // sorting again changes nothing
+  EXPECT_EQ(cloud.scalars[0].values, sorted.scalars[0].values);
 }

@@ -14,6 +14,13 @@ namespace ewis {
 // stay in the process's resident memory otherwise (30 MB after a 5.6 MB OBJ).
 void return_free_heap_to_os();
 
+// Frees a container's memory now. (`v = {}` does not: for a std::vector it is the initializer-list
+// assignment, which clears but keeps the capacity.)
+template <class T>
+void release_memory(T& v) {
+  v = T();
+}
+
 // Asks for transparent huge pages on the 2 MiB-aligned part of [data, data + bytes) not touched yet (a large
 // std::vector just reserved or resized without initialisation): its first touch then faults once per 2 MiB. A
 // hint only; small ranges are left alone.

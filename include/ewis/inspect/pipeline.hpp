@@ -25,7 +25,12 @@ namespace ewis {
 
 struct InspectParams {
   RadiusOutlierParams outliers;         // paper 4.1.1; derived from the resolution by default
-  CadTargetParams target;               // CAD samples the registration aligns to
+  // CAD samples the registration aligns to; drawn per view (only what the scan can see), not up front
+  CadTargetParams target = [] {
+    CadTargetParams t;
+    t.sample_up_front = false;
+    return t;
+  }();
   ScanToCadParams registration;
   bool register_scan = true;            // false: the initial pose is used as it is (it must be given)
   double cable_sample_spacing_mm = 0.0; // CAD cable samples seeding the trace; <= 0: max(0.5, radius / 2)
@@ -129,6 +134,11 @@ struct ResultClouds {
   Cloud cables, interferences, rest;
 };
 ResultClouds result_clouds(const InspectionResult& result);
+// One of them alone (peak memory: a writer builds, writes and frees them in turn).
+enum class ResultPart { Cables, Interferences, Rest };
+Cloud result_cloud(const InspectionResult& result, ResultPart part);
+// Writes cables.ply, interferences.ply and rest. py into `dir`, one at a time.
+void write_result_clouds(const InspectionResult& result, const std::string& dir);
 // A distinct colour per cable index.
 Rgb cable_color(std::size_t index);
 

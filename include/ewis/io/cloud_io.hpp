@@ -1,6 +1,7 @@
 #pragma once
 // Point-cloud files: PLY (ascii, binary LE/BE), PCD v0.5/v0.7 (ascii, binary, binary_compressed/LZF), XYZ/TXT.
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,5 +33,8 @@ void write_pcd(const Cloud& cloud, const std::string& path, bool compressed = fa
 // Writes a whole file atomically (temporary name beside it, then rename); throws InputError on failure.
 void write_file_atomic(const std::string& path, const std::string& contents);
 void write_file_atomic(const std::string& path, const void* data, std::size_t size);
+// The same, written chunk by chunk as `next` makes them (it gets the chunk cleared and returns false after the
+// last one): a large file without its whole image in memory. An exception from `next` leaves no file.
+void write_file_atomic_chunked(const std::string& path, const std::function<bool(std::string&)>& next);
 
 }  // namespace ewis

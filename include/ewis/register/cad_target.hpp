@@ -24,14 +24,22 @@ struct CadTargetParams {
   std::size_t max_points = 2000000; // cap on the rigid samples (0: none)
   std::uint64_t seed = 1;
   double cable_margin_mm = 3.0;     // exclusion zone around a cable's CAD surface
+  // false: `rigid` stays empty and each registration pass samples only the rigid triangles it looks at
+  // (sample_rigid_view), so the whole CAD's samples never sit in memory (issue 8: inspect's peak memory).
+  // The target then references the scene, which must outlive it.
+  bool sample_up_front = true;
 };
 
 // Owns the sampled clouds and the cables' k-d tree (it references `cables`: not copyable). The rigid samples
 // get no tree here: each registration pass builds one over the cropped view it uses (scan_to_cad.cpp), and
 // only the global search builds one over all of them (a whole-CAD tree was ~25 MB of inspect's peak).
 struct CadTarget {
-  Cloud rigid;                               // rigid samples with triangle normals
+  Cloud rigid;                               // rigid samples with triangle normals (empty when sampled per view)
   std::vector<std::uint32_t> rigid_element;  // element index per rigid sample
+  const Scene* scene = nullptr;              // set when sampled per view
+  std::vector<int> rigid_elements;           // the anchoring elements
+  std::size_t max_points = 0;
+  std::uint64_t seed = 1;
   Cloud cables;                              // cable samples (exclusion zone only)
   std::unique_ptr<KdTree> cable_tree;        // null when the plan has no cable in the scene
   double spacing_mm = 1.0;
@@ -41,6 +49,18 @@ struct CadTarget {
 // Elements the plan lists as cables are excluded from the anchor set; everything else (listed rigid or not
 // listed) anchors. Throws InputError when the scene has no rigid triangle at all.
 CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const CadTargetParams& params = {});
+
+// Whether the target has rigid samples or can draw them per view.
+bool has_rigid(const CadTarget& target);
+
+// The rigid samples inside the box [lo, hi] and, when `eye` is given, facing it (normal at most ~100 deg from
+// the direction to the eye: grazing walls stay, far sides go). From the up-front samples, or else drawn now
+// from only the rigid triangles that reach into the box (same spacing, so the same density).
+Cloud sample_rigid_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                        const Eigen::Vector3d* eye);
+
+// Every rigid sample: the up-front ones, or drawn now.
+Cloud sample_rigid_all(const CadTarget& target);
 
 // Indices (increasing) of `source` points that, mapped by source_to_cad, are farther than
 // target.cable_margin_mm + extra_margin_mm + target.spacing_mm from every cable sample: the points allowed to

@@ -21,7 +21,7 @@ namespace ewis {
 enum class PointKind : std::uint8_t { Rest = 0, Cable = 1, Interference = 2 };
 struct PointLabels {
   std::vector<PointKind> kind;          // per point of result.cloud
-  std::vector<std::int32_t> cable;      // Cable: index in result.cables; Interference: the cable it is near
+  std::vector<std::int16_t> cable;      // Cable: index in result.cables (32767 at most); Interference: the cable it is near
   std::vector<std::uint8_t> foreign;    // Interference: 1 when the cluster is a foreign object (with null)
 };
 // Cable points from each found cable's trace, interference clusters on top of the rest (a cluster point that

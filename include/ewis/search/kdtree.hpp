@@ -56,6 +56,10 @@ class KdTree {
   std::unique_ptr<Impl> impl_;
 };
 
+// The tree's leaf order of the finite points (indices into `points`), computed with 4 bytes a point of extra
+// memory (the tree itself copies the points): for permuting a cloud into leaf order (sort_for_search).
+std::vector<std::uint32_t> spatial_sort_order(const std::vector<Eigen::Vector3f>& points);
+
 // Batched queries in parallel; results independent of the thread count.
 // For each query: nearest neighbour (index, squared distance).
 std::vector<Neighbor> nearest_batch(const KdTree& tree, const std::vector<Eigen::Vector3f>& queries);
