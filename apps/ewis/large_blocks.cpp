@@ -9,6 +9,7 @@
 #if !defined(__SANITIZE_ADDRESS__)
 #include <sys/mman.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
@@ -84,7 +85,8 @@ void release(void* p) noexcept {
 
 void* allocate_aligned(std::size_t n, std::align_val_t al) {
   const std::size_t align = static_cast<std::size_t>(al);
-  if (align <= kHeader) return allocate(n);  // malloc's 16 bytes or the mapping's 64 cover it
+  if (align <= alignof(std::max_align_t)) return allocate(n);  // malloc's alignment covers it
+  if (n >= kLarge && align <= kHeader) return allocate(n);     // so does the mapping's 64
   const std::size_t rounded = (n + align - 1) / align * align;
   if (void* p = std::aligned_alloc(align, rounded ? rounded : align)) return p;
   throw std::bad_alloc();

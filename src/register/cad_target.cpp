@@ -61,65 +61,35 @@ bool inside(const Eigen::Vector3f& q, const Eigen::Vector3f& lo, const Eigen::Ve
   return !((q.array() < lo.array()).any() || (q.array() > hi.array()).any());
 }
 
-// The scene with only the rigid triangles whose bounds reach into [lo, hi] and, with an eye, that face it at
-// some corner (element indices kept; the other elements empty).
-Scene rigid_part(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
-                 const Eigen::Vector3d* eye) {
-  const Scene& scene = *target.scene;
-  Scene part;
-  part.vertices = scene.vertices;
-  part.elements = scene.elements;
-  for (Element& e : part.elements) e.triangle_count = 0;
-  for (int ei : target.rigid_elements) {
-    const Element& e = scene.elements[ei];
-    part.elements[ei].first_triangle = static_cast<std::uint32_t>(part.triangles.size());
-    for (std::uint32_t t = e.first_triangle; t < e.first_triangle + e.triangle_count; ++t) {
-      const Eigen::Vector3i& tri = scene.triangles[t];
-      const Eigen::Vector3f& a = scene.vertices[tri[0]];
-      const Eigen::Vector3f& b = scene.vertices[tri[1]];
-      const Eigen::Vector3f& c = scene.vertices[tri[2]];
-      const Eigen::Vector3f tlo = a.cwiseMin(b).cwiseMin(c), thi = a.cwiseMax(b).cwiseMax(c);
-      if ((thi.array() < lo.array()).any() || (tlo.array() > hi.array()).any()) continue;
-      if (eye) {
-        const Eigen::Vector3f n = (b - a).cross(c - a).normalized();
-        if (!facing(a, n, *eye) && !facing(b, n, *eye) && !facing(c, n, *eye)) continue;
-      }
-      part.triangles.push_back(tri);
-      part.triangle_element.push_back(static_cast<std::uint32_t>(ei));
-      ++part.elements[ei].triangle_count;
-    }
-  }
-  update_element_stats(part);
-  return part;
-}
-
-Cloud draw(const Scene& scene, const CadTarget& target) {
+// The rigid samples (those `keep` accepts, when given), drawn from the scene now.
+Cloud draw(const CadTarget& target, const MeshSamplingParams::KeepFn& keep) {
   MeshSamplingParams sp;
   sp.spacing_mm = target.spacing_mm;
   sp.max_points = target.max_points;
   sp.seed = target.seed;
-  for (int e : target.rigid_elements)
-    if (scene.elements[e].triangle_count > 0) sp.elements.push_back(e);
-  if (sp.elements.empty()) return {};
-  return std::move(sample_mesh(scene, sp).cloud);
+  sp.elements = target.rigid_elements;
+  sp.keep = keep;
+  return std::move(sample_mesh(*target.scene, sp).cloud);
 }
 
 }  // namespace
 
 Cloud sample_rigid_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
                         const Eigen::Vector3d* eye) {
-  Cloud drawn;
-  if (target.rigid.empty() && target.scene) drawn = draw(rigid_part(target, lo, hi, eye), target);
-  const Cloud& t = target.rigid.empty() ? drawn : target.rigid;
-  const std::vector<std::uint32_t> keep = parallel_select(t.size(), [&](std::size_t i) {
-    return inside(t.points[i], lo, hi) && (!eye || facing(t.points[i], t.normals[i], *eye));
-  });
+  auto in_view = [&](const Eigen::Vector3f& q, const Eigen::Vector3f& n) {
+    return inside(q, lo, hi) && (!eye || facing(q, n, *eye));
+  };
+  // Drawn now: the same samples as the up-front ones, of which only the view is ever held.
+  if (target.rigid.empty() && target.scene) return draw(target, in_view);
+  const Cloud& t = target.rigid;
+  const std::vector<std::uint32_t> keep =
+      parallel_select(t.size(), [&](std::size_t i) { return in_view(t.points[i], t.normals[i]); });
   return select(t, keep);
 }
 
 Cloud sample_rigid_all(const CadTarget& target) {
   if (!target.rigid.empty() || !target.scene) return target.rigid;
-  return draw(*target.scene, target);
+  return draw(target, {});
 }
 
 std::vector<std::uint32_t> points_away_from_cables(const std::vector<Eigen::Vector3f>& source,

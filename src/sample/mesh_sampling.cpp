@@ -111,18 +111,6 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
     plans.push_back(std::move(p));
   }
 
-  MeshSamples out;
-  // Large outputs are filled by the threads below: huge pages for their first touch (core/scratch.hpp).
-  out.cloud.points.resize(total);
-  prefer_huge_pages(out.cloud.points.data(), total * sizeof(Eigen::Vector3f));
-  out.cloud.normals.resize(total);
-  prefer_huge_pages(out.cloud.normals.data(), total * sizeof(Eigen::Vector3f));
-  for (std::vector<std::uint32_t>* v : {&out.element, &out.triangle}) {
-    v->reserve(total);
-    prefer_huge_pages(v->data(), total * sizeof(std::uint32_t));
-    v->resize(total);
-  }
-
   // Work items: (plan, block of kBlock samples), each with its own RNG stream seeded from
   // (seed, element, block), so results do not depend on the thread count or scheduling.
   struct Item {
@@ -133,7 +121,8 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
     for (std::size_t b = 0, s = 0; s < plans[p].count; ++b, s += kBlock)
       items.push_back({p, s, std::min(plans[p].count, s + kBlock), b});
 
-  parallel_for_each_index(items.size(), [&](std::size_t k) {
+  // Sample s of item k, handed to `emit(point, normal, element, triangle)`.
+  auto draw_item = [&](std::size_t k, const auto& emit) {
     const Item& it = items[k];
     const ElementPlan& p = plans[it.plan];
     const Element& e = scene.elements[p.element];
@@ -153,12 +142,62 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
       const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
       const Eigen::Vector3d q = (1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c;
       const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
-      const std::size_t o = p.offset + s;
-      out.cloud.points[o] = q.cast<float>();
-      out.cloud.normals[o] = n.cast<float>();
-      out.element[o] = static_cast<std::uint32_t>(p.element);
-      out.triangle[o] = tri_index;
+      emit(s, q.cast<float>(), n.cast<float>(), static_cast<std::uint32_t>(p.element), tri_index);
     }
+  };
+
+  MeshSamples out;
+  if (params.keep) {
+    // Two passes over the same random streams: count what `keep` accepts per block, then write it at the
+    // block's offset (blocks in their order = the order of the full result). Memory: the kept samples only.
+    std::vector<std::size_t> offset(items.size() + 1, 0);
+    parallel_for_each_index(items.size(), [&](std::size_t k) {
+      std::size_t n = 0;
+      draw_item(k, [&](std::size_t, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm, std::uint32_t,
+                       std::uint32_t) { n += params.keep(q, nrm); });
+      offset[k + 1] = n;
+    }, 1);
+    for (std::size_t k = 0; k < items.size(); ++k) offset[k + 1] += offset[k];
+    const std::size_t kept = offset.back();
+    out.cloud.points.resize(kept);
+    out.cloud.normals.resize(kept);
+    out.element.resize(kept);
+    out.triangle.resize(kept);
+    parallel_for_each_index(items.size(), [&](std::size_t k) {
+      std::size_t o = offset[k];
+      draw_item(k, [&](std::size_t, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm, std::uint32_t element,
+                       std::uint32_t triangle) {
+        if (!params.keep(q, nrm)) return;
+        out.cloud.points[o] = q;
+        out.cloud.normals[o] = nrm;
+        out.element[o] = element;
+        out.triangle[o] = triangle;
+        ++o;
+      });
+    }, 1);
+    return out;
+  }
+
+  // Large outputs are filled by the threads below: huge pages for their first touch (core/scratch.hpp).
+  out.cloud.points.resize(total);
+  prefer_huge_pages(out.cloud.points.data(), total * sizeof(Eigen::Vector3f));
+  out.cloud.normals.resize(total);
+  prefer_huge_pages(out.cloud.normals.data(), total * sizeof(Eigen::Vector3f));
+  for (std::vector<std::uint32_t>* v : {&out.element, &out.triangle}) {
+    v->reserve(total);
+    prefer_huge_pages(v->data(), total * sizeof(std::uint32_t));
+    v->resize(total);
+  }
+  parallel_for_each_index(items.size(), [&](std::size_t k) {
+    const std::size_t offset = plans[items[k].plan].offset;
+    draw_item(k, [&](std::size_t s, const Eigen::Vector3f& q, const Eigen::Vector3f& n, std::uint32_t element,
+                     std::uint32_t triangle) {
+      const std::size_t o = offset + s;
+      out.cloud.points[o] = q;
+      out.cloud.normals[o] = n;
+      out.element[o] = element;
+      out.triangle[o] = triangle;
+    });
   }, 1);
   return out;
 }

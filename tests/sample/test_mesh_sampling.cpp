@@ -162,3 +162,31 @@ TEST(MeshSampling, BadParametersThrow) {
 }
 
 }  // namespace
+
+// `keep` returns exactly the full result's accepted samples, in order (a CAD view without the whole CAD's
+// samples in memory).
+TEST(MeshSampling, KeepGivesTheFilteredFullResultInOrder) {
+  const ewis::Scene s = several();
+  ewis::MeshSamplingParams p;
+  p.spacing_mm = 0.7;
+  p.seed = 5;
+  const ewis::MeshSamples all = ewis::sample_mesh(s, p);
+  auto in_view = [](const Eigen::Vector3f& q, const Eigen::Vector3f& n) {
+    return q.x() > 20.f && q.x() < 70.f && n.z() > -0.2f;  // a box and a facing test, as a registration view
+  };
+  p.keep = in_view;
+  const ewis::MeshSamples view = ewis::sample_mesh(s, p);
+  std::size_t j = 0;
+  for (std::size_t i = 0; i < all.cloud.size(); ++i) {
+    if (!in_view(all.cloud.points[i], all.cloud.normals[i])) continue;
+    ASSERT_LT(j, view.cloud.size());
+    EXPECT_EQ(view.cloud.points[j], all.cloud.points[i]);
+    EXPECT_EQ(view.cloud.normals[j], all.cloud.normals[i]);
+    EXPECT_EQ(view.element[j], all.element[i]);
+    EXPECT_EQ(view.triangle[j], all.triangle[i]);
+    ++j;
+  }
+  EXPECT_EQ(j, view.cloud.size());
+  EXPECT_GT(j, all.cloud.size() / 5);
+  EXPECT_LT(j, all.cloud.size() * 4 / 5);
+}

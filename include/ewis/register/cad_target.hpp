@@ -24,8 +24,8 @@ struct CadTargetParams {
   std::size_t max_points = 2000000; // cap on the rigid samples (0: none)
   std::uint64_t seed = 1;
   double cable_margin_mm = 3.0;     // exclusion zone around a cable's CAD surface
-  // false: `rigid` stays empty and each registration pass samples only the rigid triangles it looks at
-  // (sample_rigid_view), so the whole CAD's samples never sit in memory (issue 8: inspect's peak memory).
+  // false: `rigid` stays empty and each registration pass draws the same samples again keeping only those it
+  // looks at (sample_rigid_view), so the whole CAD's samples never sit in memory (issue 8: inspect's peak memory).
   // The target then references the scene, which must outlive it.
   bool sample_up_front = true;
 };
@@ -55,7 +55,7 @@ bool has_rigid(const CadTarget& target);
 
 // The rigid samples inside the box [lo, hi] and, when `eye` is given, facing it (normal at most ~100 deg from
 // the direction to the eye: grazing walls stay, far sides go). From the up-front samples, or else drawn now
-// from only the rigid triangles that reach into the box (same spacing, so the same density).
+// from the scene (the same samples as up front, of which only the view is kept).
 Cloud sample_rigid_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
                         const Eigen::Vector3d* eye);
 

@@ -1,6 +1,7 @@
 #pragma once
 // Area-weighted random sampling of CAD triangles (paper 4.1.1), per element, seeded.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "ewis/core/cloud.hpp"
@@ -13,6 +14,10 @@ struct MeshSamplingParams {
   std::size_t max_points = 0;           // 0: no cap; else at most this many per call
   std::uint64_t seed = 1;
   std::vector<int> elements;            // element indices to sample; empty: all
+  // When set, only the samples it accepts are returned: the same samples, in the same order, as filtering the
+  // full result afterwards, without ever holding the full result (a view of a large CAD). Thread-safe.
+  using KeepFn = std::function<bool(const Eigen::Vector3f& point, const Eigen::Vector3f& normal)>;
+  KeepFn keep;
 };
 
 struct MeshSamples {
