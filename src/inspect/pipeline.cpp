@@ -190,6 +190,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     const SurfaceIndex attached_cable_index(scene, attached_cable);
     TubeParams tp;
     tp.radius_mm = radius;
+    tp.max_seed_radius_ratio = params.max_seed_radius_ratio;
     tp.resolution_mm = res.resolution_mm;
     tp.usable = &usable;
     tp.has_sensor = true;

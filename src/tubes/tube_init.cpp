@@ -107,7 +107,8 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
   // a tube, not a noisy plane: the surface must bend well beyond the noise over the arc seen
   const double sagitta = fit.radius_mm * (1.0 - std::cos(0.5 * std::min(fit.arc_deg, 180.0) * M_PI / 180.0));
   if (sagitta < 4.0 * fit.rms_mm) return false;
-  if (radius_hint > 0 && (fit.radius_mm < 0.5 * radius_hint || fit.radius_mm > 2.0 * radius_hint)) return false;
+  const double ratio = std::max(1.0, ctx.params.max_seed_radius_ratio);
+  if (radius_hint > 0 && (fit.radius_mm * ratio < radius_hint || fit.radius_mm > ratio * radius_hint)) return false;
   out.point = est.center + fit.point;
   out.dir = fit.axis;
   out.radius_mm = fit.radius_mm;

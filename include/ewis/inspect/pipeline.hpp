@@ -37,6 +37,7 @@ struct InspectParams {
   double rigid_surface_mm = 1.5;        // scan points this near a rigid CAD surface are not cable points
   double min_found_length_diameters = 1.0;  // a traced chain shorter than this is "not found"
   int max_runs = 6;                     // traces per cable (stretches between clamps)
+  double max_seed_radius_ratio = 1.3;   // a trace's seed must read the plan's radius within this factor
   // A CAD cable sample is covered by a run when within max(covered_radii x radius, covered_min_mm) of its
   // chain (the as-built cable strays from its CAD); uncovered samples (outside attached elements) seed the
   // next run while at least max(20, 3%) of them remain.

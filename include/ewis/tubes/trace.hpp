@@ -35,6 +35,10 @@ struct TubeParams {
   double surface_tolerance_mm = 0.0;  // shell half-width around the fitted surface (default ~0.15 r)
   double max_turn_deg = 35.0;         // larger direction change between neighbouring sub-cables: the end
   double max_radius_change = 0.3;     // larger relative radius change than this: the end
+  // A seed whose fitted radius is off the hint (radius_mm) by more than this factor, either way, is refused.
+  // 2 for a rough hint; a known nominal radius (inspect) allows less: a seed fitted on a cable and the clamp
+  // around it reads wide (1.37x on campaign scene_040) and the run then starts with a fat cylinder.
+  double max_seed_radius_ratio = 2.0;
   double search_cone_deg = 30.0;      // directions searched around the current one each step
 };
 
