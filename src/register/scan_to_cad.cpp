@@ -118,33 +118,41 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   // higher fitness wins.
   const bool ok = have && res.registration.fitness >= std::max(params.min_fitness, params.trusted_fitness);
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
-    Cloud source;
-    source.points = scan;
-    // Every rigid sample (drawn now when the target samples per view; freed when the search is done).
-    Cloud drawn;
-    if (target.rigid.empty()) drawn = sample_rigid_all(target);
-    const Cloud& all = target.rigid.empty() ? drawn : target.rigid;
-    const GlobalRegistrationResult g = register_global(source, all, params.global, progress);
-    // Symmetric parts of a scene (a plate, rows of blocks) give near-ties at the coarse scale: re-rank all the
-    // candidates by their fitness on the full-resolution target at a tighter distance, then the full ICP of the
-    // first few decides.
-    std::vector<std::uint32_t> probe;
-    const std::size_t stride = std::max<std::size_t>(1, scan.size() / std::max<std::size_t>(params.rank_probe_points, 1));
-    for (std::size_t i = 0; i < scan.size(); i += stride) probe.push_back(static_cast<std::uint32_t>(i));
-    const double tight = std::max(0.4 * g.voxel_mm, 3.0);
-    std::vector<std::pair<double, std::size_t>> ranked;
-    const KdTree rigid_tree(all.points);
-    for (std::size_t i = 0; i < g.candidates.size(); ++i)
-      ranked.emplace_back(evaluate_registration(scan, all, rigid_tree,
-                                                g.candidates[i].source_to_target, tight, probe)
-                              .fitness,
-                          i);
-    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    const std::size_t n = std::min<std::size_t>(ranked.size(), std::max(1, params.global_candidates));
-    for (std::size_t i = 0; i < n; ++i)
-      consider(refine(scan, target, g.candidates[ranked[i].second].source_to_target, std::max(2.0 * g.voxel_mm, 5.0),
-                      params, progress),
-               true);
+    // The candidates to refine, best first; everything the search needed is freed before the refinement
+    // (each refinement draws its own view of the CAD).
+    std::vector<Pose> starts;
+    double voxel_mm = 0.0;
+    {
+      Cloud source;
+      source.points = scan;
+      // Every rigid sample (drawn now when the target samples per view).
+      Cloud drawn;
+      if (target.rigid.empty()) {
+        drawn = sample_rigid_all(target);
+        sort_for_search(drawn);  // the rigid tree below then makes no copy (issue 8: peak memory)
+      }
+      const Cloud& all = target.rigid.empty() ? drawn : target.rigid;
+      const GlobalRegistrationResult g = register_global(source, all, params.global, progress);
+      voxel_mm = g.voxel_mm;
+      // Symmetric parts of a scene (a plate, rows of blocks) give near-ties at the coarse scale: re-rank all the
+      // candidates by their fitness on the full-resolution target at a tighter distance, then the full ICP of
+      // the first few decides.
+      std::vector<std::uint32_t> probe;
+      const std::size_t stride =
+          std::max<std::size_t>(1, scan.size() / std::max<std::size_t>(params.rank_probe_points, 1));
+      for (std::size_t i = 0; i < scan.size(); i += stride) probe.push_back(static_cast<std::uint32_t>(i));
+      const double tight = std::max(0.4 * g.voxel_mm, 3.0);
+      std::vector<std::pair<double, std::size_t>> ranked;
+      const KdTree rigid_tree(all.points);
+      for (std::size_t i = 0; i < g.candidates.size(); ++i)
+        ranked.emplace_back(
+            evaluate_registration(scan, all, rigid_tree, g.candidates[i].source_to_target, tight, probe).fitness, i);
+      std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+      const std::size_t n = std::min<std::size_t>(ranked.size(), std::max(1, params.global_candidates));
+      for (std::size_t i = 0; i < n; ++i) starts.push_back(g.candidates[ranked[i].second].source_to_target);
+    }
+    for (const Pose& start : starts)
+      consider(refine(scan, target, start, std::max(2.0 * voxel_mm, 5.0), params, progress), true);
   }
   res.valid = have && res.registration.fitness >= params.min_fitness;
   // The count of left-out points is reported for the whole scan (the subsample is an even spread of it).
