@@ -7,19 +7,18 @@
 // faults once per 2 MiB instead of once per 4 KiB (glibc's own mmap threshold at 1 MiB made inspect 15% slower).
 // Not under AddressSanitizer, which brings its own operator new.
 #if !defined(__SANITIZE_ADDRESS__)
-#include <sys/mman.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <new>
+
+#include "ewis/core/scratch.hpp"
 
 namespace {
 
 constexpr std::size_t kLarge = std::size_t{1} << 20;
 constexpr std::size_t kFrame = std::size_t{2} << 20;  // mapped blocks start on a 2 MiB boundary
 constexpr std::size_t kHugeFrom = std::size_t{4} << 20;  // smaller blocks keep 4 KiB pages (less rounding up)
-constexpr std::size_t kPage = 4096;
 constexpr std::size_t kHeader = 64;                   // the caller's block starts this far into the mapping
 constexpr std::uint64_t kMagic = 0x6577697362696721ull;
 
@@ -29,27 +28,11 @@ struct Header {
   std::uintptr_t check;     // ~address of the header
 };
 
-// Maps `bytes` (rounded up to pages) starting on a 2 MiB boundary: one frame more is mapped and the slack on
-// both sides unmapped.
-void* map_block(std::size_t bytes) {
-  const std::size_t size = (bytes + kPage - 1) / kPage * kPage;
-  void* raw = mmap(nullptr, size + kFrame, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-  if (raw == MAP_FAILED) throw std::bad_alloc();
-  const auto at = reinterpret_cast<std::uintptr_t>(raw);
-  const std::uintptr_t aligned = (at + kFrame - 1) / kFrame * kFrame;
-  if (aligned > at) munmap(raw, aligned - at);
-  if (const std::size_t tail = at + size + kFrame - (aligned + size)) munmap(reinterpret_cast<void*>(aligned + size), tail);
-  void* p = reinterpret_cast<void*>(aligned);
-#ifdef MADV_HUGEPAGE
-  if (size >= kHugeFrom) madvise(p, size / kFrame * kFrame, MADV_HUGEPAGE);  // a hint; whole 2 MiB frames only
-#endif
-  return p;
-}
-
 void* allocate(std::size_t n) {
-  if (n >= kLarge && n < SIZE_MAX - kHeader - kFrame) {
+  if (n >= kLarge) {
+    if (n > SIZE_MAX - kHeader) throw std::bad_alloc();
     const std::size_t mapped = n + kHeader;
-    auto* h = static_cast<Header*>(map_block(mapped));
+    auto* h = static_cast<Header*>(ewis::map_aligned(mapped, mapped >= kHugeFrom));
     *h = {kMagic, mapped, ~reinterpret_cast<std::uintptr_t>(h)};
     return reinterpret_cast<char*>(h) + kHeader;
   }
@@ -77,7 +60,7 @@ void release(void* p) noexcept {
     auto* h = reinterpret_cast<Header*>(static_cast<char*>(p) - kHeader);
     const std::size_t mapped = h->mapped;
     h->magic = 0;
-    munmap(h, (mapped + kPage - 1) / kPage * kPage);
+    ewis::unmap_aligned(h, mapped);
     return;
   }
   std::free(p);

@@ -11,22 +11,31 @@ Rgb cable_color(std::size_t index) {
   return palette[index % palette.size()];
 }
 
-Cloud result_cloud(const InspectionResult& r, ResultPart part) {
-  const Cloud& c = r.cloud;
-  // Per point: 0 rest, 1 + k cable k, kClash / kForeign an interference cluster (with a CAD element / foreign).
-  // Interference wins over the rest, a cable over an interference (it is what a person looks for).
-  constexpr std::uint16_t kClash = 65534, kForeign = 65535;
-  std::vector<std::uint16_t> tag(c.size(), 0);
+namespace {
+
+// Per point: 0 rest, 1 + k % 8 a point of cable k (its palette colour), kClash / kForeign a point of an
+// interference cluster (with a CAD element / foreign). A cable point stays a cable point; later clusters win
+// over earlier ones (it is what a person looks for).
+constexpr std::uint16_t kClash = 65534, kForeign = 65535;
+enum class ResultPart { Cables, Interferences, Rest };
+
+std::vector<std::uint16_t> point_tags(const InspectionResult& r) {
+  const std::size_t n = r.cloud.size();
+  std::vector<std::uint16_t> tag(n, 0);
   for (std::size_t k = 0; k < r.cables.size(); ++k) {
     if (!r.cables[k].found) continue;
     const auto t = static_cast<std::uint16_t>(1 + k % 8);  // the palette has 8 colours
     for (std::uint32_t i : r.cables[k].trace.points)
-      if (i < c.size()) tag[i] = t;
+      if (i < n) tag[i] = t;
   }
   for (const CableInspection& ci : r.cables)
     for (const Interference& f : ci.interferences)
       for (std::uint32_t i : f.points)
-        if (i < c.size() && (tag[i] == 0 || tag[i] >= kClash)) tag[i] = f.with ? kClash : kForeign;
+        if (i < n && (tag[i] == 0 || tag[i] >= kClash)) tag[i] = f.with ? kClash : kForeign;
+  return tag;
+}
+
+Cloud part_of(const InspectionResult& r, const std::vector<std::uint16_t>& tag, ResultPart part) {
   auto in_part = [&](std::uint16_t t) {
     switch (part) {
       case ResultPart::Cables: return t > 0 && t < kClash;
@@ -40,10 +49,10 @@ Cloud result_cloud(const InspectionResult& r, ResultPart part) {
   Cloud out;
   out.points.reserve(count);
   out.colors.reserve(count);
-  for (std::size_t i = 0; i < c.size(); ++i) {
+  for (std::size_t i = 0; i < tag.size(); ++i) {
     const std::uint16_t t = tag[i];
     if (!in_part(t)) continue;
-    out.points.push_back(c.points[i]);
+    out.points.push_back(r.cloud.points[i]);
     out.colors.push_back(t == 0 ? Rgb{160, 160, 160}
                                 : t == kClash ? Rgb{255, 140, 0}      // orange: a CAD element
                                 : t == kForeign ? Rgb{230, 20, 20}    // red: foreign
@@ -52,18 +61,22 @@ Cloud result_cloud(const InspectionResult& r, ResultPart part) {
   return out;
 }
 
+}  // namespace
+
 ResultClouds result_clouds(const InspectionResult& r) {
+  const std::vector<std::uint16_t> tag = point_tags(r);
   ResultClouds out;
-  out.cables = result_cloud(r, ResultPart::Cables);
-  out.interferences = result_cloud(r, ResultPart::Interferences);
-  out.rest = result_cloud(r, ResultPart::Rest);
+  out.cables = part_of(r, tag, ResultPart::Cables);
+  out.interferences = part_of(r, tag, ResultPart::Interferences);
+  out.rest = part_of(r, tag, ResultPart::Rest);
   return out;
 }
 
 void write_result_clouds(const InspectionResult& r, const std::string& dir) {
-  write_ply(result_cloud(r, ResultPart::Cables), dir + "/cables.ply");
-  write_ply(result_cloud(r, ResultPart::Interferences), dir + "/interferences.ply");
-  write_ply(result_cloud(r, ResultPart::Rest), dir + "/rest.ply");
+  const std::vector<std::uint16_t> tag = point_tags(r);  // once for the three files
+  write_ply(part_of(r, tag, ResultPart::Cables), dir + "/cables.ply");
+  write_ply(part_of(r, tag, ResultPart::Interferences), dir + "/interferences.ply");
+  write_ply(part_of(r, tag, ResultPart::Rest), dir + "/rest.ply");
 }
 
 }  // namespace ewis

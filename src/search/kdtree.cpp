@@ -162,11 +162,10 @@ namespace {
 // on surfaces with outliers around them, where a median split was measured 10-20% slower to query): cut the
 // widest side of the cell box (among sides within 1e-5 of the widest, the one with the widest spread of the
 // points) at its middle, clamped to the points' range; the points below go left, those above right, and
-// points on the plane fill the smaller side up to half. In place (`sorted` empty), nothing may move: the
-// build fails at the first split that would move a point and the caller copies and builds again.
-// Modes: InPlace reads the caller's points and may move nothing; Copy moves a copy of the points and their
-// indices; Gather moves only the indices and reads the caller's points through them (4 bytes a point, for
-// sort_for_search, slower from the scattered reads).
+// points on the plane fill the smaller side up to half. Modes: InPlace reads the caller's points and may move
+// nothing (the build fails at the first split that would move a point, and the caller copies and builds
+// again); Copy moves a copy of the points and their indices; Gather moves only the indices and reads the
+// caller's points through them (4 bytes a point, for sort_for_search, slower from the scattered reads).
 enum class BuildMode { InPlace, Copy, Gather };
 
 template <BuildMode Mode>

@@ -21,6 +21,12 @@ void release_memory(T& v) {
   v = T();
 }
 
+// Maps `bytes` (rounded up to 4 KiB pages) of zeroed memory on its own, starting on a 2 MiB boundary; with
+// `huge_pages`, transparent huge pages are requested for its whole 2 MiB frames. Throws std::bad_alloc. Freed with
+// unmap_aligned(p, bytes) (the same bytes).
+void* map_aligned(std::size_t bytes, bool huge_pages);
+void unmap_aligned(void* p, std::size_t bytes) noexcept;
+
 // Asks for transparent huge pages on the 2 MiB-aligned part of [data, data + bytes) not touched yet (a large
 // std::vector just reserved or resized without initialisation): its first touch then faults once per 2 MiB. A
 // hint only; small ranges are left alone.

@@ -135,9 +135,6 @@ struct ResultClouds {
   Cloud cables, interferences, rest;
 };
 ResultClouds result_clouds(const InspectionResult& result);
-// One of them alone (peak memory: a writer builds, writes and frees them in turn).
-enum class ResultPart { Cables, Interferences, Rest };
-Cloud result_cloud(const InspectionResult& result, ResultPart part);
 // Writes cables.ply, interferences.ply and rest. py into `dir`, one at a time.
 void write_result_clouds(const InspectionResult& result, const std::string& dir);
 // A distinct colour per cable index.
