@@ -44,6 +44,26 @@ Eigen::Vector3d at_arc(const std::vector<Eigen::Vector3d>& c, const std::vector<
   return c[i - 1] + t * (c[i] - c[i - 1]);
 }
 
+// Topographic prominence of every local maximum of v (0 elsewhere): its height above the higher of the two
+// lowest points met on each side before a higher value (or the end of v).
+std::vector<double> peak_prominence(const std::vector<double>& v) {
+  std::vector<double> prom(v.size(), 0.0);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if ((i > 0 && v[i - 1] > v[i]) || (i + 1 < v.size() && v[i + 1] >= v[i])) continue;
+    double left = v[i], right = v[i];
+    for (std::size_t j = i; j-- > 0;) {
+      if (v[j] > v[i]) break;
+      left = std::min(left, v[j]);
+    }
+    for (std::size_t j = i + 1; j < v.size(); ++j) {
+      if (v[j] > v[i]) break;
+      right = std::min(right, v[j]);
+    }
+    prom[i] = v[i] - std::max(left, right);
+  }
+  return prom;
+}
+
 struct Candidate {
   std::size_t profile = 0;
   double half_window_mm = 0.0;
@@ -68,10 +88,14 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return bend.profile[a].radius_mm < bend.profile[b].radius_mm; });
   std::vector<Candidate> cands;
+  auto half_window = [&](std::size_t i) {
+    const BendSample& p = bend.profile[i];
+    return std::max(0.5 * (p.window_end_mm - p.window_start_mm) + params.leg_diameters * diameter_mm,
+                    params.min_half_window_diameters * diameter_mm);
+  };
   auto add_candidate = [&](std::size_t i) {
     const BendSample& p = bend.profile[i];
-    const double half = std::max(0.5 * (p.window_end_mm - p.window_start_mm) + params.leg_diameters * diameter_mm,
-                                 params.min_half_window_diameters * diameter_mm);
+    const double half = half_window(i);
     for (const Candidate& c : cands) {
       const BendSample& q = bend.profile[c.profile];
       if (std::abs(q.arc_mm - p.arc_mm) < std::max(0.5 * (q.window_end_mm - q.window_start_mm), c.half_window_mm / 2) +
@@ -81,7 +105,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     cands.push_back({i, half});
   };
   // Corners first: a short tight bend reads nearly straight to the circle windows (its arc is a small part of
-  // each), so it is found by how much the centreline turns within +-corner_span of a point (local maxima).
+  // each), so it is found by how much the centreline turns within +-corner_span of a point (its peaks).
   {
     const double span = params.corner_span_diameters * diameter_mm;
     std::vector<double> turn(bend.profile.size(), 0.0);
@@ -92,15 +116,21 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const Eigen::Vector3d b = at_arc(centerline, arc, s + span) - at_arc(centerline, arc, s);
       if (a.norm() > 0 && b.norm() > 0) turn[i] = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
     }
+    // Ranked by prominence (how far the turn falls on each side before it rises to a higher peak): a long
+    // arc's turn is a noisy plateau whose many local maxima have little prominence, while a short bend between
+    // straights stands out by its whole turn. So one candidate per distinct bend, however long the others.
+    const std::vector<double> prom = peak_prominence(turn);
     std::vector<std::size_t> peaks;
     for (std::size_t i = 0; i < turn.size(); ++i)
-      if (turn[i] * 180.0 / M_PI >= params.corner_min_turn_deg && (i == 0 || turn[i] >= turn[i - 1]) &&
-          (i + 1 == turn.size() || turn[i] > turn[i + 1]))
-        peaks.push_back(i);
-    std::stable_sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) { return turn[a] > turn[b]; });
+      if (prom[i] * 180.0 / M_PI >= params.corner_min_turn_deg) peaks.push_back(i);
+    std::stable_sort(peaks.begin(), peaks.end(), [&](std::size_t a, std::size_t b) { return prom[a] > prom[b]; });
     for (std::size_t i : peaks) {
       if (int(cands.size()) >= params.max_corner_candidates) break;
-      add_candidate(i);
+      // Distinct peaks are distinct bends, even inside another bend's window; only one at the same place repeats.
+      const bool repeated = std::any_of(cands.begin(), cands.end(), [&](const Candidate& c) {
+        return std::abs(bend.profile[c.profile].arc_mm - bend.profile[i].arc_mm) < diameter_mm;
+      });
+      if (!repeated) cands.push_back({i, half_window(i)});
     }
   }
   const std::size_t corners = cands.size();

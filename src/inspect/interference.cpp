@@ -275,8 +275,12 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     const MeasuredCable& other = cables[k];
     if (k == which || !other.found || other.chain.empty()) continue;
     if (ignored(other.element) || (other.element >= 0 && other.element == me.element)) continue;
+    // Both models with their short breaks bridged: a cable crossing over this one hides it from the sensor, so
+    // the lower cable's trace often breaks exactly at the crossing (the gap would be read from the break's ends).
+    const std::vector<Cylinder> other_chain =
+        bridge_short_breaks(other.chain, params.bridge_break_diameters * 2.0 * other.radius_mm);
     Eigen::Vector3d pa, pb;
-    const double axes = chain_distance(me.chain, other.chain, &pa, &pb);
+    const double axes = chain_distance(chain, other_chain, &pa, &pb);
     const double gap = axes - r - other.radius_mm;
     if (!(gap < params.clearance_mm)) continue;
     Interference f;
@@ -285,7 +289,7 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     for (std::uint32_t i : other.points) {
       const Eigen::Vector3d p = cloud.points[i].cast<double>();
       if ((p - pa).norm() > near + other.radius_mm) continue;
-      if (distance_to_chain(me.chain, p).distance_mm - r > params.clearance_mm + 2.0 * other.radius_mm) continue;
+      if (distance_to_chain(chain, p).distance_mm - r > params.clearance_mm + 2.0 * other.radius_mm) continue;
       f.points.push_back(i);
       sum += p;
     }

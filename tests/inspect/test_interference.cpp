@@ -275,6 +275,41 @@ TEST(Interference, ObjectInABreakBetweenRunsIsFound) {
   EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
 }
 
+// Cable B (r 6) crosses over cable A (r 3) with a 0.8 mm gap; seen from above, B hides A there, so A's trace
+// breaks at the crossing into two runs ending 7 mm either side of B's axis. The gap is read on A's bridged model:
+// from the runs' ends it would be the distance to the break's ends (campaign scene_029: 1.56 mm for 0.75).
+TEST(Interference, CrossingOverABreakIsMeasuredOnTheBridge) {
+  const double ra = 3.0, rb = 6.0, gap = 0.8;
+  const double zb = ra + gap + rb;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, ra));
+  add_mesh(scene, "cable_B", make_cylinder({50, -60, zb}, {50, 60, zb}, rb));
+  Cloud cloud;
+  MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {43, 0, 0}, ra, 9);
+  const MeasuredCable A2 = straight_cable(cloud, "cable_A", 0, {57, 0, 0}, {100, 0, 0}, ra, 9);
+  A.chain.insert(A.chain.end(), A2.chain.begin(), A2.chain.end());
+  A.points.insert(A.points.end(), A2.points.begin(), A2.points.end());
+  std::sort(A.points.begin(), A.points.end());
+  const MeasuredCable B = straight_cable(cloud, "cable_B", 1, {50, -60, zb}, {50, 60, zb}, rb, 24);
+  const KdTree tree(cloud.points);
+  const SurfaceIndex rigid;
+  InterferenceParams p = params_seen_from({50, 0, 600});
+  const std::vector<MeasuredCable> cables = {A, B};
+  for (std::size_t which : {std::size_t(0), std::size_t(1)}) {
+    const auto found = find_interferences(cloud, tree, scene, rigid, cables, which, {}, p);
+    const Interference* f = find_with(found, std::string(which == 0 ? "cable_B" : "cable_A"));
+    ASSERT_NE(f, nullptr) << which;
+    EXPECT_NEAR(f->min_distance_mm, gap, 0.05) << which;
+    EXPECT_NEAR(f->closest_on_cable.x(), 50.0, 1.0) << which;
+  }
+  // without bridges the gap is read from the break's ends: sqrt(7^2 + 9.8^2) - 9 = 3.04 mm
+  p.bridge_break_diameters = 0.0;
+  const auto unbridged = find_interferences(cloud, tree, scene, rigid, cables, 0, {}, p);
+  const Interference* f = find_with(unbridged, std::string("cable_B"));
+  ASSERT_NE(f, nullptr);
+  EXPECT_GT(f->min_distance_mm, 2.5);
+}
+
 TEST(ChainDistance, ShortBreaksBetweenRunsAreBridged) {
   std::vector<Cylinder> chain = straight_chain({0, 0, 0}, {40, 0, 0}, 2.0, 4);
   const std::vector<Cylinder> far = straight_chain({52, 0, 0}, {90, 0, 0}, 2.0, 4);

@@ -62,11 +62,14 @@ struct FilletRefineParams {
   bool enabled = true;
   int max_candidates = 6;             // bends re-measured per run (the tightest windows of the circle profile) ...
   double max_radius_ratio = 5.0;      // ... whose circle radius is within this factor of the tightest one's
-  // ... and before them, up to max_corner_candidates corners: local maxima of the centreline's turn between
-  // the chords over +-corner_span_diameters, turning at least corner_min_turn_deg (a short tight bend reads nearly
-  // straight to the circle windows)
+  // ... and before them, up to max_corner_candidates corners: peaks of the centreline's turn between the chords
+  // over +-corner_span_diameters whose prominence (the turn's rise above the higher of the lowest points on each
+  // side before a higher peak) is at least corner_min_turn_deg, most prominent first (a short tight bend reads
+  // nearly straight to the circle windows; a long arc's turn is a plateau whose noisy peaks are not prominent).
+  // 1 diameter: a short bend between long arcs keeps straight runs around it at that span (at 2 d the chords
+  // reached into its neighbours, and the long arcs' plateau peaks took every slot).
   int max_corner_candidates = 4;
-  double corner_span_diameters = 2.0;
+  double corner_span_diameters = 1.0;
   double corner_min_turn_deg = 8.0;
   double leg_diameters = 2.0;         // each window reaches this far beyond the circle window's half-length ...
   double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
