@@ -233,6 +233,7 @@ BendRadiusResult measure_bend_radius(const std::vector<Eigen::Vector3d>& centerl
   if (best >= 0) {
     const Fit& f = fits[best];
     result.min_radius_mm = f.circle.radius_mm;
+    result.min_radius_se_mm = result.profile[best].radius_se_mm;
     const std::size_t mid = (f.a + f.b) / 2;
     result.location = s[mid];
     result.location_arc_mm = double(mid) * step;

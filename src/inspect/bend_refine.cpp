@@ -247,6 +247,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   int refined = 0;
   double best_score = std::numeric_limits<double>::infinity();
   std::optional<double> best_radius;
+  double best_se = 0.0;
   Eigen::Vector3d best_location = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < cands.size(); ++k) {
     const BendSample& p = bend.profile[cands[k].profile];
@@ -264,11 +265,13 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     if (r + 2.0 * se < best_score) {
       best_score = r + 2.0 * se;
       best_radius = r;
+      best_se = se;
       best_location = where;
     }
   }
   if (refined > 0 && best_radius) {
     bend.min_radius_mm = best_radius;
+    bend.min_radius_se_mm = best_se;
     bend.location = best_location;
   }
   return refined;

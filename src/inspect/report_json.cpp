@@ -66,6 +66,8 @@ void write_cable(std::ostringstream& o, const CableInspection& c) {
   o << in << "\"diameter_mm\": " << (c.found ? num(c.diameter_mm, 3) : "null") << ",\n";
   o << in << "\"length_mm\": " << (c.found ? num(c.length_mm, 2) : "null") << ",\n";
   o << in << "\"min_bend_radius_mm\": " << opt_num(c.min_bend_radius_mm, 2) << ",\n";
+  o << in << "\"min_bend_radius_se_mm\": "
+    << (c.min_bend_radius_mm ? num(c.bend.min_radius_se_mm, 2) : "null") << ",\n";
   o << in << "\"min_bend_radius_inner_mm\": " << opt_num(c.min_bend_radius_inner_mm, 2) << ",\n";
   o << in << "\"min_bend_location\": " << (c.min_bend_location ? vec(*c.min_bend_location, 2) : "null") << ",\n";
   o << in << "\"paper_bend_radius_mm\": " << opt_num(c.found ? c.paper_bend.radius_mm : std::nullopt, 2) << ",\n";

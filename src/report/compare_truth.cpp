@@ -158,7 +158,10 @@ SceneEvaluation compare_with_truth(const std::string& report_json, const std::st
     b.cable = *name;
     b.truth_mm = *radius;
     b.truth_diameter_mm = opt_number(t, "diameter_mm").value_or(0.0);
-    if (const json* cable = report_cable(*elements, b.cable)) b.measured_mm = opt_number(*cable, "min_bend_radius_mm");
+    if (const json* cable = report_cable(*elements, b.cable)) {
+      b.measured_mm = opt_number(*cable, "min_bend_radius_mm");
+      b.measured_se_mm = opt_number(*cable, "min_bend_radius_se_mm");
+    }
     if (b.measured_mm) b.error_pct = (*b.measured_mm - b.truth_mm) / b.truth_mm * 100.0;
     s.bends.push_back(std::move(b));
   }

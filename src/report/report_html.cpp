@@ -85,7 +85,11 @@ void cable_section(std::ostringstream& o, const InspectionResult& r, std::size_t
   const bool has_rule = c.allowed_bend_radius_mm > 0;
   std::string where = c.min_bend_location ? " at " + vec(*c.min_bend_location) : "";
   if (c.found && !c.min_bend_radius_mm) where = " (straight)";
-  o << "<tr><td>min bend radius, 3D centreline</td><td class=\"num\">" << opt_mm(c.min_bend_radius_mm) << where
+  // the standard error tells a short, barely resolved bend (e.g. 15 deg over a few mm) from a well measured one
+  const std::string se = c.min_bend_radius_mm && c.bend.min_radius_se_mm > 0
+                             ? " &plusmn; " + mm(c.bend.min_radius_se_mm, 1)
+                             : "";
+  o << "<tr><td>min bend radius, 3D centreline</td><td class=\"num\">" << opt_mm(c.min_bend_radius_mm) << se << where
     << "</td><td class=\"num\">" << (!inner && has_rule ? "&ge; " + mm(c.allowed_bend_radius_mm) : "&ndash;") << "</td>"
     << status_cell(!inner && has_rule ? from_opt(c.bend_ok) : Status::Info) << "</tr>\n";
   o << "<tr><td>min bend radius, inner (centreline &minus; d/2)</td><td class=\"num\">"

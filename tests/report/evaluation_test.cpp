@@ -216,6 +216,29 @@ TEST(Summary, MarkdownTables) {
   EXPECT_NE(md.find("| scene_005 | registration failed |"), std::string::npos);
 }
 
+// The 3-20 diameter band counts bends within 5 %, and within 5 % or 2 of the report's own standard errors.
+TEST(Summary, BendBandWithStandardErrors) {
+  const std::string bent = truth({truth_cable("cable_A", 40.0)}, {});  // 4 diameters
+  auto with_se = [&](double radius, std::optional<double> se) {
+    json c = cable("cable_A", true, radius);
+    if (se) c["min_bend_radius_se_mm"] = *se;
+    return compare_with_truth(report("pass", {c}), bent, "s");
+  };
+  std::vector<SceneEvaluation> v = {with_se(41.0, std::nullopt), with_se(43.2, 2.0), with_se(43.2, 1.0),
+                                    with_se(43.2, std::nullopt)};
+  ASSERT_TRUE(v[1].bends[0].measured_se_mm);
+  EXPECT_DOUBLE_EQ(*v[1].bends[0].measured_se_mm, 2.0);
+  EXPECT_FALSE(v[0].bends[0].measured_se_mm);
+  const json j = json::parse(evaluation_to_json(summarize(v), v));
+  const json& band = j["bend_radius_error_pct_3_to_20_diameters"];
+  EXPECT_EQ(band["count"], 4);
+  EXPECT_EQ(band["within_5_pct"], 1);         // +2.5 %
+  EXPECT_EQ(band["within_5_pct_or_2_se"], 2);  // and +8 % = 3.2 mm, under 2 x 2.0 mm
+  EXPECT_EQ(j["scene_results"][1]["bends"][0]["measured_se_mm"], 2.0);
+  const std::string md = evaluation_to_markdown(summarize(v), v, "camp");
+  EXPECT_NE(md.find("within 5 % or 2 reported standard errors) | 1 of 4 (2) |"), std::string::npos);
+}
+
 TEST(EvaluateCampaign, FailedRunsAreCountedAndTheCampaignGoesOn) {
   const std::string dir = test::test_dir("campaign");
   const std::string camp = dir + "/camp";

@@ -54,6 +54,7 @@ struct BendSample {
 struct BendRadiusResult {
   // Smallest radius of curvature of the centreline (mm); nullopt when the cable is straight everywhere.
   std::optional<double> min_radius_mm;
+  double min_radius_se_mm = 0.0;                               // its standard error (from the fit's covariance)
   std::optional<Eigen::Vector3d> location;                     // where (middle of the minimum's window)
   double location_arc_mm = 0.0;
   Eigen::Vector3d circle_center = Eigen::Vector3d::Zero();     // the minimum's fitted circle (for pictures)

@@ -40,6 +40,7 @@ struct BendCheck {
   double truth_diameter_mm = 0.0;
   std::optional<double> measured_mm;                     // nullopt: the report has no radius (or no cable)
   std::optional<double> error_pct;                       // signed: (measured - truth) / truth x 100
+  std::optional<double> measured_se_mm;                  // the report's min_bend_radius_se_mm, when given
 };
 
 enum class VerdictOutcome { Correct, FalseAlarm, Missed, NotRun };
