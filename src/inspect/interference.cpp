@@ -205,7 +205,7 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   // that is missing or moved is not an interference at its CAD place).
   Eigen::Vector3d chain_lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d chain_hi = -chain_lo;
-  for (const Cylinder& c : me.chain) {
+  for (const Cylinder& c : chain) {
     chain_lo = chain_lo.cwiseMin(c.start).cwiseMin(c.end);
     chain_hi = chain_hi.cwiseMax(c.start).cwiseMax(c.end);
   }
@@ -218,7 +218,7 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     const SurfaceIndex element_surface(scene, {int(e)});
     double gap = std::numeric_limits<double>::infinity();
     Interference f;
-    for (const Cylinder& c : me.chain) {
+    for (const Cylinder& c : chain) {
       const double limit = std::min(reach, std::isfinite(gap) ? gap + r : reach);
       const SurfacePoint s = element_surface.closest_to_segment(c.start, c.end, params.surface_step_mm, limit);
       if (s.found() && s.distance_mm - r < gap) {
@@ -260,8 +260,8 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     f.with = el.name;
     f.with_element = int(e);
     f.min_distance_mm = std::max(0.0, gap);
-    const ChainPoint cp = distance_to_chain(me.chain, f.closest_on_other);
-    const Cylinder& seg = me.chain[cp.segment];
+    const ChainPoint cp = distance_to_chain(chain, f.closest_on_other);
+    const Cylinder& seg = chain[cp.segment];
     const Eigen::Vector3d axis_pt = seg.start + cp.t * (seg.end - seg.start);
     const Eigen::Vector3d d = f.closest_on_other - axis_pt;
     f.closest_on_cable = axis_pt + (d.norm() > 0 ? Eigen::Vector3d(d.normalized() * r) : Eigen::Vector3d::Zero());

@@ -10,6 +10,7 @@
 #include "ewis/filter/resolution.hpp"
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
+#include "ewis/inspect/run_conflicts.hpp"
 #include "ewis/inspect/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/core/scratch.hpp"
@@ -238,6 +239,12 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       for (std::uint32_t i : t.points) run_usable[i] = 0;
       ci.runs.push_back(std::move(t));
     }
+  }
+
+  // Two cables' runs on the same points: the place goes to the cable whose CAD is nearer (run_conflicts.hpp).
+  drop_runs_on_other_cables(res.cables, scene, cloud.size());
+  for (std::size_t c = 0; c < cable_plans.size(); ++c) {
+    CableInspection& ci = res.cables[c];
     ci.found = !ci.runs.empty();
     if (ci.found) {
       TubeTrace& m = ci.trace;
@@ -261,7 +268,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       m.points.erase(std::unique(m.points.begin(), m.points.end()), m.points.end());
     }
     MeasuredCable& m = measured[c];
-    m.name = pe.name;
+    m.name = cable_plans[c]->name;
     m.element = ci.element;
     m.found = ci.found;
     if (ci.found) {

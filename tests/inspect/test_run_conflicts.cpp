@@ -1,0 +1,79 @@
+// Runs of two cables on the same scan points (run_conflicts.hpp).
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+#include "ewis/inspect/run_conflicts.hpp"
+#include "ewis/scene/primitives.hpp"
+
+using namespace ewis;
+
+namespace {
+
+// A run along the straight axis a -> b (10 segments) made of the scan points [first, first + count).
+TubeTrace run(const Eigen::Vector3d& a, const Eigen::Vector3d& b, std::uint32_t first, std::uint32_t count) {
+  TubeTrace t;
+  t.found = true;
+  for (int i = 0; i < 10; ++i) {
+    SubCable s;
+    s.cylinder.start = a + (b - a) * (i / 10.0);
+    s.cylinder.end = a + (b - a) * ((i + 1) / 10.0);
+    s.cylinder.radius_mm = 4.8;
+    t.segments.push_back(s);
+  }
+  t.points.resize(count);
+  std::iota(t.points.begin(), t.points.end(), first);
+  return t;
+}
+
+// Two parallel cables (r 4.8) 17 mm apart: A's CAD along y = 0 (its as-built course 4 mm toward C, as where a
+// defect moved it), C's along y = 17.
+Scene two_cables() {
+  Scene s;
+  const Mesh a = make_cylinder({-200, 0, 0}, {200, 0, 0}, 4.8);
+  const Mesh c = make_cylinder({-200, 17, 0}, {200, 17, 0}, 4.8);
+  add_element(s, "cable_A", a.vertices, a.triangles);
+  add_element(s, "cable_C", c.vertices, c.triangles);
+  return s;
+}
+
+std::vector<CableInspection> cables_with(std::vector<TubeTrace> a_runs, std::vector<TubeTrace> c_runs) {
+  std::vector<CableInspection> v(2);
+  v[0].name = "cable_A";
+  v[0].element = 0;
+  v[0].runs = std::move(a_runs);
+  v[1].name = "cable_C";
+  v[1].element = 1;
+  v[1].runs = std::move(c_runs);
+  return v;
+}
+
+}  // namespace
+
+// A's second run started on C (campaign scene_027 at 1.5x noise): it shares C's points and lies on C's CAD, so
+// it is dropped; C keeps its run, whichever of C's runs it is.
+TEST(RunConflicts, ARunOnTheNeighbourIsDropped) {
+  const Scene scene = two_cables();
+  for (bool c_first_run : {true, false}) {
+    std::vector<TubeTrace> c_runs;
+    if (!c_first_run) c_runs.push_back(run({100, 17, 0}, {190, 17, 0}, 2000, 500));
+    c_runs.push_back(run({-160, 17, 0}, {0, 17, 0}, 1000, 800));
+    auto cables = cables_with({run({0, 4, 0}, {190, 4, 0}, 0, 900),          // A itself
+                               run({0, 17.3, 0}, {-160, 17.2, 0}, 1050, 700)},  // on C, C's points
+                              c_runs);
+    EXPECT_EQ(drop_runs_on_other_cables(cables, scene, 3000), 1u);
+    ASSERT_EQ(cables[0].runs.size(), 1u);
+    EXPECT_EQ(cables[0].runs[0].points.front(), 0u);
+    EXPECT_EQ(cables[1].runs.size(), c_runs.size());
+  }
+}
+
+// Runs that share a few points (two cables touching side by side: a handful of boundary points claimed by both)
+// are both kept.
+TEST(RunConflicts, TouchingCablesKeepTheirRuns) {
+  const Scene scene = two_cables();
+  auto cables = cables_with({run({-190, 4, 0}, {190, 4, 0}, 0, 1000)}, {run({-190, 17, 0}, {190, 17, 0}, 900, 1000)});
+  EXPECT_EQ(drop_runs_on_other_cables(cables, scene, 3000), 0u);
+  EXPECT_EQ(cables[0].runs.size(), 1u);
+  EXPECT_EQ(cables[1].runs.size(), 1u);
+}
