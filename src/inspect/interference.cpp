@@ -12,6 +12,7 @@
 #include "ewis/filter/euclidean_clusters.hpp"
 #include "ewis/filter/normals.hpp"
 #include "ewis/inspect/chain_distance.hpp"
+#include "ewis/tubes/cylinder_fit.hpp"
 
 namespace ewis {
 namespace {
@@ -63,6 +64,39 @@ bool is_veil(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
   const double width = std::sqrt(12.0 * std::max(es.eigenvalues()(0), 0.0));  // of a uniform strip
   return width <= std::max(params.veil_max_width_mm, params.veil_max_width_res * params.resolution_mm);
+}
+
+// A cluster lying over a bridged break (most of its points nearest a bridge segment) that is a tube of the cable's
+// radius along the bridge's course is the cable's own untraced stretch: a run that ended short of a clamp leaves
+// the cable between them to the bridge, whose guessed course the noisy surface leaves by more than the band.
+bool is_own_untraced_stretch(const Cloud& cloud, const std::vector<std::uint32_t>& pts,
+                             const std::vector<Cylinder>& chain, std::size_t measured_segments, double r,
+                             const InterferenceParams& params) {
+  std::vector<Eigen::Vector3d> xs;
+  xs.reserve(pts.size());
+  std::size_t on_bridge = 0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::uint32_t i : pts) {
+    xs.push_back(cloud.points[i].cast<double>());
+    mean += xs.back();
+    on_bridge += distance_to_chain(chain, xs.back()).segment >= measured_segments;
+  }
+  if (2 * on_bridge <= pts.size()) return false;
+  mean /= double(pts.size());
+  const ChainPoint cp = distance_to_chain(chain, mean);
+  const Cylinder& seg = chain[cp.segment];
+  const Eigen::Vector3d dir = (seg.end - seg.start).normalized();
+  const Eigen::Vector3d foot = seg.start + cp.t * (seg.end - seg.start);
+  CylinderFitParams fp;
+  fp.use_sensor = params.has_sensor;
+  fp.sensor = params.sensor_position;
+  fp.max_radius_mm = 3.0 * r;
+  const CylinderFitResult f = fit_cylinder(xs, foot, dir, r, fp);
+  if (!f.ok || std::abs(f.radius_mm / r - 1.0) > params.own_stretch_radius_tolerance) return false;
+  if (double(f.inliers) < params.own_stretch_min_inliers * double(xs.size())) return false;
+  if (std::abs(f.axis.dot(dir)) < std::cos(params.own_stretch_max_angle_deg * M_PI / 180.0)) return false;
+  // its axis within a radius of the bridge's course
+  return distance_to_chain(chain, f.point).distance_mm <= r;
 }
 
 }  // namespace
@@ -312,6 +346,8 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     const ClusterResult cr = euclidean_clusters(tree, subset, tol, min_size);
     for (const std::vector<std::uint32_t>& pts : cr.clusters) {
       if (params.has_sensor && is_veil(tree, cloud, pts, params)) continue;
+      if (chain.size() > me.chain.size() && is_own_untraced_stretch(cloud, pts, chain, me.chain.size(), r, params))
+        continue;
       Interference f;
       f.points = pts;
       std::sort(f.points.begin(), f.points.end());

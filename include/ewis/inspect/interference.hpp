@@ -102,6 +102,12 @@ struct InterferenceParams {
   double bridge_break_diameters = 6.0;
   // Over a bridge the cable's own surface band is at least this many radii (the course there is guessed).
   double bridge_band_radii = 0.25;
+  // A foreign cluster lying mostly over a bridge is the cable's own untraced stretch when a cylinder fitted to it
+  // has the cable's radius (within this fraction), holds this fraction of its points as inliers, runs within this
+  // angle of the bridge and has its axis within a radius of the bridge's course.
+  double own_stretch_radius_tolerance = 0.25;
+  double own_stretch_min_inliers = 0.6;
+  double own_stretch_max_angle_deg = 25.0;
 };
 
 struct Interference {
