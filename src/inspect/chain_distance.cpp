@@ -45,14 +45,46 @@ std::vector<Cylinder> bridge_short_breaks(const std::vector<Cylinder>& chain, do
   };
   std::vector<End> ends;
   std::size_t run = 0;
-  for (std::size_t i = 0; i < chain.size(); ++i) {
-    const Eigen::Vector3d dir = (chain[i].end - chain[i].start).normalized();
-    if (i == 0 || (chain[i - 1].end - chain[i].start).norm() > 1e-6) {
-      if (i > 0) ++run;
-      ends.push_back({chain[i].start, -dir, chain[i].radius_mm, run});
+  auto joined = [&](std::size_t i) { return i > 0 && (chain[i - 1].end - chain[i].start).norm() <= 1e-6; };
+  // A run's direction at an end, from its axis over about 2 diameters back from the end (at most the run): the
+  // last sub-cable alone is the least reliable (it ends where the data gave out, often beside the object that broke
+  // the trace). Two chords, over the nearer and the farther half, give the direction and its change, extrapolated
+  // to the end (a run along an arc keeps its curvature).
+  auto outward = [&](std::size_t i, bool at_start) {
+    const double baseline = 4.0 * chain[i].radius_mm;
+    const Eigen::Vector3d tip = at_start ? chain[i].start : chain[i].end;
+    std::size_t k = i;
+    double walked = chain[k].length_mm();
+    Eigen::Vector3d half = at_start ? chain[k].end : chain[k].start;
+    bool half_set = walked >= 0.5 * baseline;
+    while (walked < baseline) {
+      if (at_start) {
+        if (k + 1 >= chain.size() || !joined(k + 1)) break;
+        ++k;
+      } else {
+        if (!joined(k)) break;
+        --k;
+      }
+      walked += chain[k].length_mm();
+      if (!half_set && walked >= 0.5 * baseline) {
+        half = at_start ? chain[k].end : chain[k].start;
+        half_set = true;
+      }
     }
-    if (i + 1 == chain.size() || (chain[i + 1].start - chain[i].end).norm() > 1e-6)
-      ends.push_back({chain[i].end, dir, chain[i].radius_mm, run});
+    const Eigen::Vector3d far = at_start ? chain[k].end : chain[k].start;
+    const Eigen::Vector3d n1 = tip - half, n2 = half - far;
+    if (n1.norm() < 1e-9) return Eigen::Vector3d(Eigen::Vector3d::UnitX());
+    if (n2.norm() < 1e-9) return Eigen::Vector3d(n1.normalized());
+    const Eigen::Vector3d c1 = n1.normalized(), c2 = n2.normalized();
+    const Eigen::Vector3d t = c1 + (c1 - c2) * (n1.norm() / (n1.norm() + n2.norm()));
+    return t.norm() > 1e-9 ? Eigen::Vector3d(t.normalized()) : c1;
+  };
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    if (!joined(i)) {
+      if (i > 0) ++run;
+      ends.push_back({chain[i].start, outward(i, true), chain[i].radius_mm, run});
+    }
+    if (i + 1 == chain.size() || !joined(i + 1)) ends.push_back({chain[i].end, outward(i, false), chain[i].radius_mm, run});
   }
   // Two ends belong together when they face each other (each within 60 deg of the line to the other).
   auto facing = [&](std::size_t a, std::size_t b) {
