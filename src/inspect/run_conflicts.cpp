@@ -38,18 +38,22 @@ std::size_t drop_runs_on_other_cables(std::vector<CableInspection>& cables, cons
   for (std::size_t c = 0; c < cables.size(); ++c)
     for (std::size_t k = 0; k < cables[c].runs.size(); ++k) refs.push_back({c, k});
   if (refs.size() < 2 || refs.size() >= UINT32_MAX) return 0;
-  // The first run (in cable, run order) to claim each point; a later run's shared points are counted per claimer.
-  std::vector<std::uint32_t> owner(cloud_size, UINT32_MAX);
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> shared;  // (earlier, later) run -> points
+  // Every (point, run) claim, sorted by point (memory of the runs' points, not of the scan): a point's first run
+  // (in cable, run order) is its claimer, and each later run of another cable shares that point with it.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> claims;
   for (std::uint32_t r = 0; r < refs.size(); ++r)
-    for (std::uint32_t i : cables[refs[r].cable].runs[refs[r].run].points) {
-      if (i >= cloud_size) continue;
-      if (owner[i] == UINT32_MAX) {
-        owner[i] = r;
-      } else if (refs[owner[i]].cable != refs[r].cable) {
-        ++shared[{owner[i], r}];
-      }
-    }
+    for (std::uint32_t i : cables[refs[r].cable].runs[refs[r].run].points)
+      if (i < cloud_size) claims.emplace_back(i, r);
+  std::sort(claims.begin(), claims.end());
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> shared;  // (earlier, later) run -> points
+  for (std::size_t a = 0; a < claims.size();) {
+    std::size_t b = a + 1;
+    while (b < claims.size() && claims[b].first == claims[a].first) ++b;
+    const std::uint32_t owner = claims[a].second;
+    for (std::size_t k = a + 1; k < b; ++k)
+      if (refs[claims[k].second].cable != refs[owner].cable) ++shared[{owner, claims[k].second}];
+    a = b;
+  }
   std::vector<std::unique_ptr<SurfaceIndex>> cad(cables.size());
   auto cad_of = [&](std::size_t c) -> const SurfaceIndex& {
     if (!cad[c]) cad[c] = std::make_unique<SurfaceIndex>(scene, std::vector<int>{cables[c].element});
