@@ -58,6 +58,25 @@ bool within_5_pct_or_2_se(const BendCheck& b) {
   return b.measured_se_mm && std::abs(*b.measured_mm - b.truth_mm) <= 2.0 * *b.measured_se_mm;
 }
 
+// The 3-20 diameter band: absolute errors, and how many within 5 % / within 5 % or 2 reported standard errors (a
+// short arc the noise cannot resolve to 5 % is reported with the uncertainty it has).
+struct BendBand {
+  std::vector<double> errors_pct;
+  std::size_t within = 0, within_se = 0;
+};
+
+BendBand bend_band(const std::vector<SceneEvaluation>& scenes) {
+  BendBand band;
+  for (const SceneEvaluation& e : scenes)
+    for (const BendCheck& b : e.bends)
+      if (b.error_pct && in_ratio_range(b)) {
+        band.errors_pct.push_back(std::abs(*b.error_pct));
+        band.within += std::abs(*b.error_pct) <= 5.0;
+        band.within_se += within_5_pct_or_2_se(b);
+      }
+  return band;
+}
+
 }  // namespace
 
 ErrorStats error_stats(std::vector<double> v) {
@@ -136,22 +155,12 @@ std::string evaluation_to_json(const EvaluationSummary& s, const std::vector<Sce
   o["bend_radius_compared"] = s.bend_radius_error_pct.count;
   o["bend_radius_missing"] = s.bend_radius_missing;
   {
-    std::vector<double> band;
-    std::size_t within = 0, within_se = 0;
-    for (const SceneEvaluation& e : scenes)
-      for (const BendCheck& b : e.bends)
-        if (b.error_pct && in_ratio_range(b)) {
-          band.push_back(std::abs(*b.error_pct));
-          within += std::abs(*b.error_pct) <= 5.0;
-          within_se += within_5_pct_or_2_se(b);
-        }
-    const ErrorStats st = error_stats(band);
+    const BendBand band = bend_band(scenes);
+    const ErrorStats st = error_stats(band.errors_pct);
     ojson j = stats_json(st);
     j["count"] = st.count;
-    j["within_5_pct"] = within;
-    // the error within 5 % or within 2 of the report's own standard errors (a short arc that the noise cannot
-    // resolve to 5 % is reported with the uncertainty it has)
-    j["within_5_pct_or_2_se"] = within_se;
+    j["within_5_pct"] = band.within;
+    j["within_5_pct_or_2_se"] = band.within_se;
     o["bend_radius_error_pct_3_to_20_diameters"] = j;
   }
   o["gap_compared"] = s.gap_error_mm.count;
@@ -213,16 +222,9 @@ std::string evaluation_to_markdown(const EvaluationSummary& s, const std::vector
     << " / " << fmt(b.max, 2, " %") << " (" << b.count << " cables compared, " << s.bend_radius_missing
     << " without a measured radius) |\n";
   {
-    std::size_t n = 0, within = 0, within_se = 0;
-    for (const SceneEvaluation& e : scenes)
-      for (const BendCheck& bc : e.bends)
-        if (bc.error_pct && in_ratio_range(bc)) {
-          ++n;
-          within += std::abs(*bc.error_pct) <= 5.0;
-          within_se += within_5_pct_or_2_se(bc);
-        }
-    o << "| bend radius of 3-20 diameters: within 5 % (within 5 % or 2 reported standard errors) | " << within
-      << " of " << n << " (" << within_se << ") |\n";
+    const BendBand band = bend_band(scenes);
+    o << "| bend radius of 3-20 diameters: within 5 % (within 5 % or 2 reported standard errors) | " << band.within
+      << " of " << band.errors_pct.size() << " (" << band.within_se << ") |\n";
   }
   const ErrorStats& g = s.gap_error_mm;
   o << "| gap error, abs. (median / p95 / max) | " << fmt(g.median, 3, " mm") << " / " << fmt(g.p95, 3, " mm") << " / "

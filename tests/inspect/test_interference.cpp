@@ -81,6 +81,17 @@ MeasuredCable straight_cable(Cloud& cloud, const std::string& name, int element,
   return c;
 }
 
+// cable_A (scene element 0) along x, traced as two runs, [0, break_start] and [break_end, 100] (each as `segments`
+// sub-cables): its trace broke over (break_start, break_end).
+MeasuredCable cable_with_break(Cloud& cloud, double r, double break_start, double break_end, int segments) {
+  MeasuredCable a = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {break_start, 0, 0}, r, segments);
+  const MeasuredCable b = straight_cable(cloud, "cable_A", 0, {break_end, 0, 0}, {100, 0, 0}, r, segments);
+  a.chain.insert(a.chain.end(), b.chain.begin(), b.chain.end());
+  a.points.insert(a.points.end(), b.points.begin(), b.points.end());
+  std::sort(a.points.begin(), a.points.end());
+  return a;
+}
+
 // cable_A (scene element 0): 100 mm along x from the origin, as 20 sub-cables.
 MeasuredCable straight_cable_along_x(Cloud& cloud, double r) {
   return straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {100, 0, 0}, r, 20);
@@ -256,10 +267,7 @@ TEST(Interference, ObjectInABreakBetweenRunsIsFound) {
   Scene scene;
   add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
   Cloud cloud;
-  MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {44, 0, 0}, r, 9);
-  const MeasuredCable B = straight_cable(cloud, "cable_A", 0, {56, 0, 0}, {100, 0, 0}, r, 9);
-  A.chain.insert(A.chain.end(), B.chain.begin(), B.chain.end());
-  A.points.insert(A.points.end(), B.points.begin(), B.points.end());
+  const MeasuredCable A = cable_with_break(cloud, r, 44, 56, 9);
   // the strip's top face, 2 mm above the cable's top (beyond the bridge's wider own-surface band of 0.25 r),
   // 8 mm wide along the cable, 30 mm across it
   add_top_face(cloud, {46, -15, r + 2.0}, {54, 15, r + 2.0});
@@ -285,11 +293,7 @@ TEST(Interference, CrossingOverABreakIsMeasuredOnTheBridge) {
   add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, ra));
   add_mesh(scene, "cable_B", make_cylinder({50, -60, zb}, {50, 60, zb}, rb));
   Cloud cloud;
-  MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {43, 0, 0}, ra, 9);
-  const MeasuredCable A2 = straight_cable(cloud, "cable_A", 0, {57, 0, 0}, {100, 0, 0}, ra, 9);
-  A.chain.insert(A.chain.end(), A2.chain.begin(), A2.chain.end());
-  A.points.insert(A.points.end(), A2.points.begin(), A2.points.end());
-  std::sort(A.points.begin(), A.points.end());
+  const MeasuredCable A = cable_with_break(cloud, ra, 43, 57, 9);
   const MeasuredCable B = straight_cable(cloud, "cable_B", 1, {50, -60, zb}, {50, 60, zb}, rb, 24);
   const KdTree tree(cloud.points);
   const SurfaceIndex rigid;
@@ -319,11 +323,7 @@ TEST(Interference, BracketInABreakBetweenRunsIsMeasuredOnTheBridge) {
   add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
   add_mesh(scene, "bracket", make_box({42, r + 0.3, -10}, {58, r + 20.0, 8}));
   Cloud cloud;
-  MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {38, 0, 0}, r, 8);
-  const MeasuredCable A2 = straight_cable(cloud, "cable_A", 0, {62, 0, 0}, {100, 0, 0}, r, 8);
-  A.chain.insert(A.chain.end(), A2.chain.begin(), A2.chain.end());
-  A.points.insert(A.points.end(), A2.points.begin(), A2.points.end());
-  std::sort(A.points.begin(), A.points.end());
+  const MeasuredCable A = cable_with_break(cloud, r, 38, 62, 8);
   add_top_face(cloud, {42, r + 0.3, -10}, {58, r + 20.0, 8});
   const KdTree tree(cloud.points);
   const SurfaceIndex rigid(scene, {1});
@@ -349,11 +349,7 @@ TEST(Interference, OwnUntracedStretchInABreakIsNotForeign) {
   Scene scene;
   add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
   Cloud cloud;
-  MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {38, 0, 0}, r, 8);
-  const MeasuredCable A2 = straight_cable(cloud, "cable_A", 0, {62, 0, 0}, {100, 0, 0}, r, 8);
-  A.chain.insert(A.chain.end(), A2.chain.begin(), A2.chain.end());
-  A.points.insert(A.points.end(), A2.points.begin(), A2.points.end());
-  std::sort(A.points.begin(), A.points.end());
+  const MeasuredCable A = cable_with_break(cloud, r, 38, 62, 8);
   add_visible_cylinder(cloud, {40, 1.8, 0}, {60, 1.8, 0}, r);  // the untraced stretch, not in A.points
   const SurfaceIndex rigid;
   const InterferenceParams p = params_seen_from({50, 0, 600});
