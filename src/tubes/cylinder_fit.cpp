@@ -38,6 +38,9 @@ void median_and_sigma(const std::vector<double>& r, double floor, std::vector<do
 
 // Angular extent of the points around the axis (angles in [0, 2 pi)): 10-degree sectors holding a fair
 // share of the points. Robust to the few outliers that pass the trimming on the far side of the axis.
+constexpr std::size_t kSparseArcPoints = 72;  // 2 per 10 deg sector around the circle
+constexpr double kSparseArcMaxDeg = 200.0;
+
 double arc_extent_deg(const int (&bins)[36]) {
   const int peak = *std::max_element(bins, bins + 36);
   if (peak == 0) return 0.0;
@@ -45,6 +48,24 @@ double arc_extent_deg(const int (&bins)[36]) {
   int occupied = 0;
   for (int i = 0; i < 36; ++i) occupied += bins[i] >= need;
   return occupied * 10.0;
+}
+
+// The same for a few points (fewer than 2 per sector around the circle): a thin tube in a sparse scan shows
+// 3-5 pixel columns across, each at one angle, so 10 deg sectors of 2 points read a 100 deg arc as 40-70
+// deg. Here the extent is the angular range of the points around their mean direction, without the outer
+// 5 % on each side, when that is at most kSparseArcMaxDeg: one view sees at most half a tube, and a few
+// points spread further round an axis are scattered points (a noisy plane with outliers), not a tube's seen
+// side; those keep the sector count.
+double sparse_arc_extent_deg(std::vector<double>& angles) {
+  if (angles.size() < 2) return 0.0;
+  double sx = 0, sy = 0;
+  for (double a : angles) sx += std::cos(a), sy += std::sin(a);
+  const double mean = std::atan2(sy, sx);
+  for (double& a : angles) a = std::remainder(a - mean, 2 * M_PI);
+  std::sort(angles.begin(), angles.end());
+  const std::size_t trim = angles.size() / 20;
+  const double extent = (angles[angles.size() - 1 - trim] - angles[trim]) * 180.0 / M_PI;
+  return extent <= kSparseArcMaxDeg ? extent : 0.0;
 }
 
 // A sensor sees only the side of a tube that faces it: points on the far side of the axis are outliers
@@ -189,12 +210,14 @@ CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const
   int bins[36] = {0};
   double ss = 0;
   int count = 0;
+  std::vector<double> angles;
   for (std::size_t i = 0; i < n; ++i) {
     if (!inl[i]) continue;
     ++count;
     ss += resid[i] * resid[i];
     const double a = std::atan2(radial[i].dot(frame.col(1)), radial[i].dot(frame.col(0))) + M_PI;
     bins[std::clamp(static_cast<int>(a / (2 * M_PI) * 36.0), 0, 35)]++;
+    if (angles.size() < kSparseArcPoints) angles.push_back(a);
   }
   if (count < 6) return res;
   if (u.dot(u0) < 0) u = -u;
@@ -204,7 +227,9 @@ CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const
   res.radius_mm = rho;
   res.rms_mm = std::sqrt(ss / count);
   res.inliers = count;
-  res.arc_deg = count >= 2 ? arc_extent_deg(bins) : 0.0;
+  res.arc_deg = count < 2                                      ? 0.0
+                : count < static_cast<int>(kSparseArcPoints) ? std::max(arc_extent_deg(bins), sparse_arc_extent_deg(angles))
+                                                             : arc_extent_deg(bins);
   res.inlier = std::move(inl);
   return res;
 }

@@ -41,8 +41,12 @@ void configure(Context& ctx, const AxisState& s) {
                                                 : std::max(std::clamp(3.0 * s.rms_mm, 0.05 * r, 0.3 * r), 0.3 * res);
   // short steps tied to the radius follow bends (paper 4.2.4 "starts from where it stopped")
   ctx.step_mm = p.step_mm > 0 ? p.step_mm : std::max(r, 4.0 * res);
-  ctx.half_window_mm = std::max(0.75 * ctx.step_mm, 3.0 * res);
   ctx.expected_density = s.window_mm > 0 ? s.inliers / s.window_mm : 0.0;
+  // The fit window holds at least kMinWindowPoints of the surface: a thin tube in a sparse scan has a few
+  // points per mm, and a 20-point fit's radius wanders by more than the radius-jump limit.
+  constexpr double kMinWindowPoints = 30.0;
+  const double for_points = ctx.expected_density > 0 ? 0.5 * kMinWindowPoints / ctx.expected_density : 0.0;
+  ctx.half_window_mm = std::max({0.75 * ctx.step_mm, 3.0 * res, std::min(for_points, 3.0 * ctx.step_mm)});
 }
 
 void init_directions(Context& ctx) {

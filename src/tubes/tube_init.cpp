@@ -77,11 +77,21 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
   double r = est.radius;
   if (radius_hint > 0 && (r < 0.5 * radius_hint || r > 2.0 * radius_hint)) r = radius_hint;
   // paper 4.2.2: the sphere around the centre; antipodal pairs = candidate axes; the fullest cylinder wins
-  const double hl = std::max(r, 4.0 * res);
+  // The window reaches +-max(r, 4 resolutions) along the axis, longer while it holds fewer than
+  // kMinWindowPoints, up to +-12 resolutions: a thin tube in a sparse scan has a few points across, and the
+  // starting fit (its radius and the arc it sees) needs some tens of them.
+  constexpr std::size_t kMinWindowPoints = 60;
   const double tol0 = std::max(0.15 * r, 1.0 * res);
+  double hl = std::max(r, 4.0 * res);
   std::vector<Eigen::Vector3d> rel;
   std::vector<std::uint32_t> ids;
-  gather(ctx, est.center, std::sqrt(hl * hl + (r + 2 * tol0) * (r + 2 * tol0)), est.center, rel, &ids);
+  for (;;) {
+    rel.clear();
+    ids.clear();
+    gather(ctx, est.center, std::sqrt(hl * hl + (r + 2 * tol0) * (r + 2 * tol0)), est.center, rel, &ids);
+    if (rel.size() >= kMinWindowPoints || hl >= 12.0 * res) break;
+    hl = std::min(1.5 * hl, 12.0 * res);
+  }
   if (rel.size() < 15) return false;
   static const int kHemisphere = 600;  // ~5 deg apart
   const std::vector<Eigen::Vector3d> hemi = hemisphere_directions(kHemisphere);

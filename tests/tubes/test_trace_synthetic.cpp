@@ -123,6 +123,39 @@ TEST(TraceTube, BentTubeTracedEndToEnd) {
   EXPECT_NEAR(t.length_mm, synth::distance_to_polyline(truth, truth.back()) + ewis::polyline_length(truth), 4.0);
 }
 
+// A 3 mm cable in a sparse scan (0.75 mm pixels at 600 mm, 0.2 mm noise along the rays, 40 % outliers): four
+// points across its seen side, 10-20 per step window. The starting arc (counted in 10 deg sectors of 2 points)
+// read 40-90 deg and the radius of 20-point fits wandered by 50 %: nothing or a few tens of mm was traced.
+TEST(TraceTube, ThinTubeInASparseNoisyScan) {
+  const double r = 1.5, R = 40.0;
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.4, Vector3d(0.3, 1, 0).normalized()).toRotationMatrix();
+  const Vector3d o(0, 0, 600);
+  const double arc = 60.0 * M_PI / 180.0;
+  std::vector<Vector3d> truth;
+  for (const Vector3d& p : synth::line(Vector3d(-80, -R, 0), Vector3d(0, -R, 0))) truth.push_back(o + rot * p);
+  for (const Vector3d& p : synth::curve([&](double a) { return Vector3d(R * std::sin(a), -R * std::cos(a), 0); }, 0, arc, 200))
+    truth.push_back(o + rot * p);
+  const Vector3d e(R * std::sin(arc), -R * std::cos(arc), 0), te(std::cos(arc), std::sin(arc), 0);
+  for (const Vector3d& p : synth::line(e, e + te * 80)) truth.push_back(o + rot * p);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  ewis::TubeParams params;
+  params.radius_mm = r;
+  params.has_sensor = true;
+  params.sensor_position = Vector3d::Zero();
+  for (std::uint64_t seed : {3, 5, 8}) {
+    const synth::Scan scan = synth::render(scene, 0.2, 0.4, seed, 0.75);
+    const ewis::KdTree tree(scan.cloud.points);
+    const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(truth[100], r), params);
+    const Metrics m = measure(t, truth, r);
+    print("thin, sparse", t, m);
+    ASSERT_TRUE(t.found) << "seed " << seed;
+    EXPECT_GE(m.coverage, 0.9) << "seed " << seed;
+    EXPECT_LE(m.rms, 0.4) << "seed " << seed;
+    EXPECT_LE(std::abs(m.diameter_err_pct), 15.0) << "seed " << seed;
+  }
+}
+
 TEST(TraceTube, ParallelTubesTwoMillimetresApartNeverJump) {
   // same diameter, 2 mm apart; tube A shorter, so its ends face B's continuation
   const double r = 5.0;
