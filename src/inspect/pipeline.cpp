@@ -192,6 +192,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     TubeParams tp;
     tp.radius_mm = radius;
     tp.max_seed_radius_ratio = params.max_seed_radius_ratio;
+    // a cable displaced from its CAD by more than its radius is looked for as far as a run may lie and
+    // still cover its CAD (below)
+    tp.seed_search_mm = std::max(params.covered_radii * radius, params.covered_min_mm);
     tp.resolution_mm = res.resolution_mm;
     tp.usable = &usable;
     tp.has_sensor = true;

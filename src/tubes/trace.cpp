@@ -243,6 +243,10 @@ TubeTrace trace_tube(const Cloud& cloud, const KdTree& tree, const Eigen::Vector
   return none;
 }
 
+constexpr int kMaxStartAttempts = 24;          // starts tried per pass
+constexpr std::size_t kSecondPassCandidates = 400;  // CAD points ranked in the second pass (evenly strided)
+constexpr double kSecondPassMinLengthRadii = 8.0;   // its traces are at least 4 diameters long
+
 TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<Eigen::Vector3d>& cad_points,
                       double radius_mm, const TubeParams& params_in) {
   TubeTrace none;
@@ -265,16 +269,29 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
   std::vector<Eigen::Vector3d> failed;
   std::vector<Neighbor> inside;
   int attempts = 0;
-  for (std::uint32_t ci : order) {
-    if (counts[ci] < 10 || attempts >= 24) break;
-    const Eigen::Vector3d& c = cad_points[ci];
-    // a failed candidate's neighbours would fail the same way: skip them
-    if (std::any_of(failed.begin(), failed.end(), [&](const Eigen::Vector3d& f) { return (f - c).norm() < radius_mm; }))
-      continue;
+  // One start around CAD point c: paper Fig. 8d, step 1: spheres re-centred on the (usable) points within
+  // `reach` of c; step 2: the fullest (most points within the radius) is the start.
+  // `min_length_mm`: shorter traces are no cable (the second pass, searching wide, must find a stretch: a
+  // few mm grown from stray points beside a clamp or bracket are what a wide search picks up otherwise).
+  auto attempt = [&](const Eigen::Vector3d& c, double reach, double min_length_mm, TubeTrace& out) {
     ++attempts;
-    // paper Fig. 8d: step 1, spheres re-centred on the points inside; step 2, the fullest is the start
-    tree.radius(c.cast<float>(), rf, inside);
+    tree.radius(c.cast<float>(), static_cast<float>(reach), inside);
     std::sort(inside.begin(), inside.end(), [](const Neighbor& a, const Neighbor& b) { return a.index < b.index; });
+    if (inside.empty()) {
+      failed.push_back(c);
+      return false;
+    }
+    // at most ~200 re-centred spheres (the second pass's wide search strides over its usable points only)
+    if (reach > radius_mm) {
+      std::size_t keep = 0;
+      for (const Neighbor& nb : inside)
+        if (ctx.usable(nb.index)) inside[keep++] = nb;
+      inside.resize(keep);
+      if (inside.empty()) {
+        failed.push_back(c);
+        return false;
+      }
+    }
     const std::size_t stride = std::max<std::size_t>(1, inside.size() / 200);
     std::uint32_t best = inside.front().index;
     std::size_t best_count = 0;
@@ -292,9 +309,50 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
       // A start beside a clamp or connector can grow one odd sub-cable and stop at once: that is no cable
       // (shorter than a diameter, or of another radius); the next candidate is tried (paper 4.2.1's fallback).
       TubeTrace t = trace_from(ctx, s, c);
-      if (t.found && t.length_mm >= 2.0 * radius_mm && std::abs(t.radius_mm / radius_mm - 1.0) <= 0.35) return t;
+      if (t.found && t.length_mm >= min_length_mm && std::abs(t.radius_mm / radius_mm - 1.0) <= 0.35) {
+        out = std::move(t);
+        return true;
+      }
     }
     failed.push_back(c);
+    return false;
+  };
+  TubeTrace found;
+  for (std::uint32_t ci : order) {
+    if (counts[ci] < 10 || attempts >= kMaxStartAttempts) break;
+    const Eigen::Vector3d& c = cad_points[ci];
+    // a failed candidate's neighbours would fail the same way: skip them
+    if (std::any_of(failed.begin(), failed.end(), [&](const Eigen::Vector3d& f) { return (f - c).norm() < radius_mm; }))
+      continue;
+    if (attempt(c, radius_mm, 2.0 * radius_mm, found)) return found;
+  }
+  // Second pass, when the cable lies off its CAD by more than its radius (a displaced cable: the spheres
+  // around the CAD points hold none of it) wherever the first pass could start: candidates ranked by the
+  // usable points within seed_search_mm, each searched that far.
+  const double reach = params.seed_search_mm;
+  if (!(reach > radius_mm)) return none;
+  const std::size_t stride2 = std::max<std::size_t>(1, n / kSecondPassCandidates);
+  std::vector<std::uint32_t> cand2;
+  for (std::size_t i = 0; i < n; i += stride2)
+    if (cad_points[i].allFinite()) cand2.push_back(static_cast<std::uint32_t>(i));
+  std::vector<std::uint32_t> usable_near(n, 0);
+  parallel_for_each_index(cand2.size(), [&](std::size_t k) {
+    std::vector<Neighbor> nb;
+    tree.radius(cad_points[cand2[k]].cast<float>(), static_cast<float>(reach), nb);
+    std::uint32_t u = 0;
+    for (const Neighbor& q : nb) u += ctx.usable(q.index);
+    usable_near[cand2[k]] = u;
+  }, 8);
+  std::stable_sort(cand2.begin(), cand2.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return usable_near[a] > usable_near[b]; });
+  int attempts2 = 0;
+  for (std::uint32_t ci : cand2) {
+    if (usable_near[ci] < 10 || attempts2 >= kMaxStartAttempts) break;
+    const Eigen::Vector3d& c = cad_points[ci];
+    if (std::any_of(failed.begin(), failed.end(), [&](const Eigen::Vector3d& f) { return (f - c).norm() < 0.5 * reach; }))
+      continue;
+    ++attempts2;
+    if (attempt(c, reach, kSecondPassMinLengthRadii * radius_mm, found)) return found;
   }
   return none;
 }

@@ -329,6 +329,51 @@ TEST(TraceTube, NoTubeAtTheSeed) {
   EXPECT_FALSE(ewis::trace_tube(empty, et, c, {}).found);
 }
 
+// A thin cable lying 8 mm beside its CAD (an as-built route off the nominal one by more than its radius, as
+// where a clearance defect pushed it): the spheres of the cable radius around the CAD points hold none of it.
+// The second pass looks seed_search_mm from them; a plate under the cable, marked unusable as a rigid CAD
+// element would be, is never taken for it.
+TEST(TraceCable, CableDisplacedFromItsCadByMoreThanItsRadius) {
+  const double r = 1.7;
+  const Vector3d dir = Vector3d(1, 0.3, 0).normalized();
+  const Vector3d mid(0, 0, 600);
+  const auto truth = synth::line(mid - dir * 60, mid + dir * 60);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  scene.add_rect(mid + Vector3d(-80, -40, r + 0.5), Vector3d(160, 0, 0), Vector3d(0, 80, 0), 1);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  std::vector<std::uint8_t> usable(scan.cloud.size(), 1);
+  for (std::size_t i = 0; i < usable.size(); ++i) usable[i] = scan.label[i] != 1;
+  std::vector<Vector3d> cad;
+  const Vector3d e1 = dir.cross(Vector3d::UnitZ()).normalized(), e2 = dir.cross(e1);
+  const Vector3d off = 8.0 * e1;
+  for (std::size_t i = 0; i < truth.size(); i += 2)
+    for (int k = 0; k < 8; ++k) cad.push_back(truth[i] + off + r * (std::cos(k * M_PI / 4) * e1 + std::sin(k * M_PI / 4) * e2));
+  ewis::TubeParams params;
+  params.usable = &usable;
+  params.has_sensor = true;
+  params.sensor_position = Vector3d::Zero();
+  EXPECT_FALSE(ewis::trace_cable(scan.cloud, tree, cad, r, params).found) << "first pass alone";
+  params.seed_search_mm = 15.0;
+  const ewis::TubeTrace t = ewis::trace_cable(scan.cloud, tree, cad, r, params);
+  const Metrics m = measure(t, truth, r);
+  print("displaced cable", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_LE(std::abs(m.diameter_err_pct), 8.0);
+  // the same CAD over the bare plate (no cable anywhere near): nothing
+  synth::Scene bare;
+  bare.add_rect(mid + Vector3d(-80, -40, r + 0.5), Vector3d(160, 0, 0), Vector3d(0, 80, 0), 1);
+  const synth::Scan plate = synth::render(bare);
+  const ewis::KdTree plate_tree(plate.cloud.points);
+  std::vector<std::uint8_t> plate_usable(plate.cloud.size(), 1);
+  for (std::size_t i = 0; i < plate_usable.size(); ++i) plate_usable[i] = plate.label[i] != 1;
+  params.usable = &plate_usable;
+  EXPECT_FALSE(ewis::trace_cable(plate.cloud, plate_tree, cad, r, params).found);
+}
+
 TEST(TraceCable, StartsFromTheRegisteredCadPoints) {
   // paper 4.2.1: CAD cable sample points, 2 mm off the scanned cable (registration error), start the trace
   const double r = 5.0;

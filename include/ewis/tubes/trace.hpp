@@ -40,6 +40,9 @@ struct TubeParams {
   // around it reads wide (1.37x on campaign scene_040) and the run then starts with a fat cylinder.
   double max_seed_radius_ratio = 2.0;
   double search_cone_deg = 30.0;      // directions searched around the current one each step
+  // trace_cable only: when no start is found within the radius of the CAD points, look this far from them
+  // (a cable displaced from its CAD by more than its radius); <= radius_mm: no second pass.
+  double seed_search_mm = 0.0;
 };
 
 struct SubCable {
