@@ -28,6 +28,9 @@ struct ScanToCadParams {
   // With icp.use_source_viewpoint (the scan in its sensor's frame): veils of mixed pixels are dropped from the
   // subsample before anything else (veil_points.hpp); they bias the pose along weakly constrained directions.
   bool drop_veils = true;
+  // With an initial pose: scan points it maps farther than icp.expected_error_mm outside the CAD's bounding
+  // box are left out (a background the CAD does not model).
+  bool crop_to_cad = true;
   VeilParams veil;
   // The scan is in its sensor's frame (CONTRACT: scan.ply), so CAD faces turned away from the sensor are culled.
   ScanToCadParams() {

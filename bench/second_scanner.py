@@ -1,0 +1,189 @@
+#!/usr/bin/python3
+"""A second, independent virtual scanner: rescans a `ewis simulate --campaign` with other physics.
+
+The project's own scanner (src/sim) ray-casts with Embree, puts the noise along the camera rays and draws its
+outliers its own way. Tuning the inspection to it alone would go unnoticed, so this script scans the same
+as-built scenes differently, in numpy only:
+  - a pinhole camera of its own size and focal length (default 1280 x 1024 px, f = 1150 px: ~0.52 mm pixels
+    at 600 mm), rendered by splatting dense samples of every triangle into a z-buffer, then each pixel's
+    point computed exactly on the winning triangle's plane;
+  - isotropic Gaussian noise (per axis, mm), not along the rays;
+  - mixed pixels at depth edges (a depth between the near and the far surface);
+  - outliers: half uniform in the view frustum, half a wrong depth (3-40 mm off) along a seen pixel's ray;
+  - optionally a floor that the CAD does not have (clutter the registration must ignore).
+Each scene of the campaign keeps its scene.obj, plan.json, pose.txt and truth.json (the camera pose is the
+same, so the truth holds); only scan.ply is new. Evaluate the result with `ewis evaluate --campaign OUT`.
+
+Usage:
+  second_scanner.py --ewis build/bin/ewis --campaign C --seed S --out OUT [--first I --last J]
+                    [--sigma-mm 0.15] [--outliers 0.4] [--focal-px 1150] [--width 1280] [--height 1024]
+                    [--mixed 0.5] [--floor-z Z]
+`--seed` must be the seed the campaign C was simulated with: the as-built meshes are made again with
+`ewis simulate --scene-only` into OUT_asbuilt (a campaign does not keep them) and checked against C's truth.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+
+def read_obj(path, floor_z=None):
+    verts, faces = [], []
+    with open(path) as fh:
+        for line in fh:
+            if line.startswith('v '):
+                verts.append([float(x) for x in line.split()[1:4]])
+            elif line.startswith('f '):
+                idx = [int(t.split('/')[0]) for t in line.split()[1:]]
+                idx = [i - 1 if i > 0 else len(verts) + i for i in idx]
+                for k in range(1, len(idx) - 1):
+                    faces.append([idx[0], idx[k], idx[k + 1]])
+    if floor_z is not None:  # a grid of 50 mm cells over +-1200 mm (small triangles keep the splatting bounded)
+        g = np.arange(-1200.0, 1200.1, 50.0)
+        m, b0 = len(g), len(verts)
+        verts += [[x, y, floor_z] for y in g for x in g]
+        for j in range(m - 1):
+            for i in range(m - 1):
+                q = b0 + j * m + i
+                faces += [[q, q + 1, q + m + 1], [q, q + m + 1, q + m]]
+    return np.array(verts, float), np.array(faces, np.int64)
+
+
+def scan(verts, faces, camera_to_cad, a, rng):
+    """Points (camera frame, mm) of one scan; returns (points, surface count, mixed count)."""
+    cad_to_cam = np.linalg.inv(camera_to_cad)
+    vc = verts @ cad_to_cam[:3, :3].T + cad_to_cam[:3, 3]
+    A, B, C = vc[faces[:, 0]], vc[faces[:, 1]], vc[faces[:, 2]]
+    cx, cy, f = a.width / 2.0, a.height / 2.0, a.focal_px
+
+    def project(p):
+        return f * p[:, 0] / p[:, 2] + cx, f * p[:, 1] / p[:, 2] + cy
+
+    front = (A[:, 2] > 10) & (B[:, 2] > 10) & (C[:, 2] > 10)
+    A, B, C = A[front], B[front], C[front]
+    ua, va = project(A)
+    ub, vb = project(B)
+    uc, vc2 = project(C)
+    inside = ((np.maximum.reduce([ua, ub, uc]) >= 0) & (np.minimum.reduce([ua, ub, uc]) < a.width) &
+              (np.maximum.reduce([va, vb, vc2]) >= 0) & (np.minimum.reduce([va, vb, vc2]) < a.height))
+    A, B, C = A[inside], B[inside], C[inside]
+    area_px = 0.5 * np.abs((ub - ua) * (vc2 - va) - (uc - ua) * (vb - va))[inside]
+    # z-buffer by splatting ~6 random samples per pixel of each triangle, in chunks of ~4 M samples
+    n = np.ceil(area_px * 6).astype(np.int64) + 3
+    zbuf = np.full(a.width * a.height, np.inf)
+    tbuf = np.full(a.width * a.height, -1, np.int64)
+    cum = np.cumsum(n)
+    start = 0
+    while start < len(A):
+        stop = max(int(np.searchsorted(cum, (cum[start - 1] if start else 0) + 4_000_000, 'right')), start + 1)
+        rep = start + np.repeat(np.arange(stop - start), n[start:stop])
+        r1, r2 = rng.random(len(rep)), rng.random(len(rep))
+        s = np.sqrt(r1)
+        p = (1 - s)[:, None] * A[rep] + (s * (1 - r2))[:, None] * B[rep] + (s * r2)[:, None] * C[rep]
+        u, v = project(p)
+        ok = (u >= 0) & (u < a.width) & (v >= 0) & (v < a.height)
+        pix = v[ok].astype(np.int64) * a.width + u[ok].astype(np.int64)
+        z, tri = p[ok, 2], rep[ok]
+        order = np.lexsort((z, pix))
+        pix, z, tri = pix[order], z[order], tri[order]
+        first = np.ones(len(pix), bool)
+        first[1:] = pix[1:] != pix[:-1]
+        pix, z, tri = pix[first], z[first], tri[first]
+        better = z < zbuf[pix]
+        zbuf[pix[better]] = z[better]
+        tbuf[pix[better]] = tri[better]
+        start = stop
+    pix = np.nonzero(tbuf >= 0)[0]
+    tri = tbuf[pix]
+    # each pixel's ray (through its centre) on the winning triangle's plane
+    px, py = (pix % a.width) + 0.5, (pix // a.width) + 0.5
+    d = np.stack([(px - cx) / f, (py - cy) / f, np.ones_like(px)], 1)
+    nrm = np.cross(B[tri] - A[tri], C[tri] - A[tri])
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None] + 1e-300
+    denom = (nrm * d).sum(1)
+    t = (nrm * A[tri]).sum(1) / np.where(np.abs(denom) < 1e-12, 1e-12, denom)
+    pts = d * t[:, None]
+    dn = d / np.linalg.norm(d, axis=1)[:, None]
+    incidence = np.degrees(np.arccos(np.clip(np.abs((nrm * dn).sum(1)), 0, 1)))
+    keep = (incidence <= a.max_incidence_deg) & (t > 0)
+    pts, pix = pts[keep], pix[keep]
+    # mixed pixels: a pixel whose 4-neighbour is over 8 mm deeper may read a depth in between
+    depth = np.full(a.width * a.height, np.nan)
+    depth[pix] = pts[:, 2]
+    img = depth.reshape(a.height, a.width)
+    nb = np.full((4, a.height, a.width), -np.inf)
+    nb[0, 1:, :], nb[1, :-1, :] = img[:-1, :], img[1:, :]
+    nb[2, :, 1:], nb[3, :, :-1] = img[:, :-1], img[:, 1:]
+    far = np.nanmax(np.where(np.isnan(nb), -np.inf, nb), 0).reshape(-1)[pix]
+    edge = (far - pts[:, 2] > 8.0) & (rng.random(len(pix)) < a.mixed)
+    frac = rng.random(edge.sum())
+    pts[edge] *= (1 + frac * (far[edge] / pts[edge, 2] - 1))[:, None]
+    pts = pts + rng.normal(0, a.sigma_mm, pts.shape)
+    # outliers
+    n_out = int(round(a.outliers / (1 - a.outliers) * len(pts)))
+    zmin, zmax = pts[:, 2].min() - 50, pts[:, 2].max() + 50
+    n1 = n_out // 2
+    uo, vo, zo = rng.random(n1) * a.width, rng.random(n1) * a.height, rng.uniform(zmin, zmax, n1)
+    o1 = np.stack([(uo - cx) / f * zo, (vo - cy) / f * zo, zo], 1)
+    pick = rng.integers(0, len(pts), n_out - n1)
+    scale = 1 + rng.choice([-1, 1], len(pick)) * rng.uniform(3, 40, len(pick)) / pts[pick, 2]
+    o2 = pts[pick] * scale[:, None]
+    out = np.concatenate([pts, o1, o2]).astype(np.float32)
+    return out[rng.permutation(len(out))], len(pts), int(edge.sum())
+
+
+def write_ply(path, pts):
+    with open(path, 'wb') as fh:
+        fh.write(('ply\nformat binary_little_endian 1.0\ncomment second_scanner.py, units mm\n'
+                  'element vertex %d\nproperty float x\nproperty float y\nproperty float z\nend_header\n'
+                  % len(pts)).encode())
+        fh.write(pts.tobytes())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('--ewis', required=True, help='the ewis binary (to make the as-built meshes again)')
+    ap.add_argument('--campaign', required=True, help='folder of `ewis simulate --campaign`')
+    ap.add_argument('--seed', type=int, required=True, help='the seed that campaign was made with')
+    ap.add_argument('--out', required=True)
+    ap.add_argument('--first', type=int, default=0)
+    ap.add_argument('--last', type=int, default=-1, help='last scene index (default: all)')
+    ap.add_argument('--sigma-mm', type=float, default=0.15, help='isotropic noise, per axis')
+    ap.add_argument('--outliers', type=float, default=0.4, help='outlier fraction of the scan')
+    ap.add_argument('--focal-px', type=float, default=1150.0)
+    ap.add_argument('--width', type=int, default=1280)
+    ap.add_argument('--height', type=int, default=1024)
+    ap.add_argument('--mixed', type=float, default=0.5, help='chance that a depth-edge pixel is mixed')
+    ap.add_argument('--max-incidence-deg', type=float, default=78.0)
+    ap.add_argument('--floor-z', type=float, default=None, help='a floor at this CAD z, not in the CAD')
+    a = ap.parse_args()
+    scenes = sorted(d for d in os.listdir(a.campaign) if d.startswith('scene_'))
+    last = len(scenes) - 1 if a.last < 0 else min(a.last, len(scenes) - 1)
+    built = a.out.rstrip('/') + '_asbuilt'  # beside OUT, not in it (evaluate reads every folder of OUT)
+    if not os.path.isdir(built):
+        subprocess.run([a.ewis, 'simulate', '--out', built, '--seed', str(a.seed), '--campaign', str(len(scenes)),
+                        '--scene-only', '-q'], check=True)
+    for i in range(a.first, last + 1):
+        name = scenes[i]
+        src, dst = os.path.join(a.campaign, name), os.path.join(a.out, name)
+        truth = json.load(open(os.path.join(src, 'truth.json')))
+        again = json.load(open(os.path.join(built, name, 'scene_truth.json')))
+        if [c['centerline'] for c in truth['cables']] != [c['centerline'] for c in again['cables']]:
+            sys.exit(f'{name}: the as-built scene differs from {src}/truth.json (wrong --seed?)')
+        os.makedirs(dst, exist_ok=True)
+        for f in ('scene.obj', 'plan.json', 'pose.txt', 'truth.json'):
+            link = os.path.join(dst, f)
+            if not os.path.exists(link):
+                os.symlink(os.path.abspath(os.path.join(src, f)), link)
+        rng = np.random.default_rng([a.seed, i])
+        verts, faces = read_obj(os.path.join(built, name, 'asbuilt.obj'), a.floor_z)
+        pts, surface, mixed = scan(verts, faces, np.array(truth['camera_to_cad']), a, rng)
+        write_ply(os.path.join(dst, 'scan.ply'), pts)
+        print(f'{name}: {surface} surface points ({mixed} mixed), {len(pts) - surface} outliers', file=sys.stderr)
+
+
+if __name__ == '__main__':
+    main()
