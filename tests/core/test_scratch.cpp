@@ -20,8 +20,9 @@ TEST(ScratchArray, HoldsValuesAcrossSizesAndMoves) {
     ASSERT_EQ(b.size(), n);
     EXPECT_EQ(b[0], 7u);
     EXPECT_EQ(b[n - 1], 7u + n - 1);
-    if (n * sizeof(std::uint64_t) >= (std::size_t{1} << 20))
+    if (n * sizeof(std::uint64_t) >= (std::size_t{1} << 20)) {
       EXPECT_EQ(reinterpret_cast<std::uintptr_t>(b.data()) % (std::size_t{2} << 20), 0u);
+    }
     ScratchArray<std::uint64_t> c;
     c = std::move(b);
     EXPECT_EQ(c[n / 2], 7u + n / 2);

@@ -90,7 +90,9 @@ TEST(SceneGenerator, CleanScenesKeepEveryRuleWithMargin) {
     EXPECT_TRUE(s.defects.empty()) << seed;
     for (const auto& c : s.cables) {
       const double r = c.as_built.min_curvature_radius_mm();
-      if (std::isfinite(r)) EXPECT_GE(r, 1.2 * c.allowed_bend_radius_mm) << seed << " " << c.name;
+      if (std::isfinite(r)) {
+        EXPECT_GE(r, 1.2 * c.allowed_bend_radius_mm) << seed << " " << c.name;
+      }
       EXPECT_GE(r / c.diameter_mm, 2.9);
     }
     for (const auto& g : s.gaps) {

@@ -125,7 +125,9 @@ TEST(Sensor, OutlierFractionAndKinds) {
   EXPECT_GT(counts[3], 0u);
   // Mixed pixels lie between the step's front (600) and the wall (800).
   for (std::size_t i = 0; i < r.cloud.size(); ++i)
-    if (r.kind[i] == PointKind::Mixed) ASSERT_TRUE(r.cloud.points[i].z() > 600 && r.cloud.points[i].z() < 800);
+    if (r.kind[i] == PointKind::Mixed) {
+      ASSERT_TRUE(r.cloud.points[i].z() > 600 && r.cloud.points[i].z() < 800);
+    }
 }
 
 TEST(Sensor, NoiseSigmaAlongTheRay) {
