@@ -192,9 +192,10 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     TubeParams tp;
     tp.radius_mm = radius;
     tp.max_seed_radius_ratio = params.max_seed_radius_ratio;
-    // a cable displaced from its CAD by more than its radius is looked for as far as a run may lie and
-    // still cover its CAD (below)
-    tp.seed_search_mm = std::max(params.covered_radii * radius, params.covered_min_mm);
+    // A CAD cable sample is covered by a run within `cover` of its chain; a cable displaced from its CAD by
+    // more than its radius is looked for as far.
+    const double cover = std::max(params.covered_radii * radius, params.covered_min_mm);
+    tp.seed_search_mm = cover;
     tp.resolution_mm = res.resolution_mm;
     tp.usable = &usable;
     tp.has_sensor = true;
@@ -219,7 +220,6 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     for (std::size_t i = 0; i < cad_points.size(); ++i)
       for (int e : attached_rigid)
         if (inside_box(cad_points[i], scene.elements[e], 0.0)) covered[i] = 1;
-    const double cover = std::max(params.covered_radii * radius, params.covered_min_mm);
     const std::size_t min_left = std::max<std::size_t>(20, cad_points.size() * 3 / 100);
     for (int run = 0; run < params.max_runs; ++run) {
       std::vector<Eigen::Vector3d> seeds;

@@ -215,7 +215,7 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
   const std::vector<Eigen::Vector3f>& all = cropped.empty() ? scan.points : cropped;
   // An even spread over the image (the scan is in raster order)
   const std::vector<Eigen::Vector3f> sub = pick(all, evenly_strided(all.size(), params.max_scan_points));
-  const double per_point = static_cast<double>(scan.size()) / static_cast<double>(sub.size());
+  const double per_point = static_cast<double>(all.size()) / static_cast<double>(sub.size());
   if (!params.icp.use_source_viewpoint)
     return register_subsample(sub, per_point, target, initial_scan_to_cad, params, progress);
 

@@ -36,11 +36,10 @@ void median_and_sigma(const std::vector<double>& r, double floor, std::vector<do
   sigma = std::max(1.4826 * median_of(tmp), floor);
 }
 
+constexpr double kSparseArcMaxDeg = 200.0;  // see sparse_arc_extent_deg
+
 // Angular extent of the points around the axis (angles in [0, 2 pi)): 10-degree sectors holding a fair
 // share of the points. Robust to the few outliers that pass the trimming on the far side of the axis.
-constexpr std::size_t kSparseArcPoints = 72;  // 2 per 10 deg sector around the circle
-constexpr double kSparseArcMaxDeg = 200.0;
-
 double arc_extent_deg(const int (&bins)[36]) {
   const int peak = *std::max_element(bins, bins + 36);
   if (peak == 0) return 0.0;
@@ -50,7 +49,7 @@ double arc_extent_deg(const int (&bins)[36]) {
   return occupied * 10.0;
 }
 
-// The same for a few points (fewer than 2 per sector around the circle): a thin tube in a sparse scan shows
+// The same for a sparse fit (fewer than kSparseFitInliers): a thin tube in a sparse scan shows
 // 3-5 pixel columns across, each at one angle, so 10 deg sectors of 2 points read a 100 deg arc as 40-70
 // deg. Here the extent is the angular range of the points around their mean direction, without the outer
 // 5 % on each side, when that is at most kSparseArcMaxDeg: one view sees at most half a tube, and a few
@@ -217,7 +216,7 @@ CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const
     ss += resid[i] * resid[i];
     const double a = std::atan2(radial[i].dot(frame.col(1)), radial[i].dot(frame.col(0))) + M_PI;
     bins[std::clamp(static_cast<int>(a / (2 * M_PI) * 36.0), 0, 35)]++;
-    if (angles.size() < kSparseArcPoints) angles.push_back(a);
+    if (angles.size() < static_cast<std::size_t>(kSparseFitInliers)) angles.push_back(a);
   }
   if (count < 6) return res;
   if (u.dot(u0) < 0) u = -u;
@@ -227,9 +226,9 @@ CylinderFitResult fit_cylinder(const std::vector<Eigen::Vector3d>& points, const
   res.radius_mm = rho;
   res.rms_mm = std::sqrt(ss / count);
   res.inliers = count;
-  res.arc_deg = count < 2                                      ? 0.0
-                : count < static_cast<int>(kSparseArcPoints) ? std::max(arc_extent_deg(bins), sparse_arc_extent_deg(angles))
-                                                             : arc_extent_deg(bins);
+  res.arc_deg = count < 2                   ? 0.0
+                : count < kSparseFitInliers ? std::max(arc_extent_deg(bins), sparse_arc_extent_deg(angles))
+                                            : arc_extent_deg(bins);
   res.inlier = std::move(inl);
   return res;
 }

@@ -277,20 +277,13 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
     ++attempts;
     tree.radius(c.cast<float>(), static_cast<float>(reach), inside);
     std::sort(inside.begin(), inside.end(), [](const Neighbor& a, const Neighbor& b) { return a.index < b.index; });
+    // at most ~200 re-centred spheres (the second pass's wide search strides over its usable points only)
+    if (reach > radius_mm)
+      inside.erase(std::remove_if(inside.begin(), inside.end(), [&](const Neighbor& nb) { return !ctx.usable(nb.index); }),
+                   inside.end());
     if (inside.empty()) {
       failed.push_back(c);
       return false;
-    }
-    // at most ~200 re-centred spheres (the second pass's wide search strides over its usable points only)
-    if (reach > radius_mm) {
-      std::size_t keep = 0;
-      for (const Neighbor& nb : inside)
-        if (ctx.usable(nb.index)) inside[keep++] = nb;
-      inside.resize(keep);
-      if (inside.empty()) {
-        failed.push_back(c);
-        return false;
-      }
     }
     const std::size_t stride = std::max<std::size_t>(1, inside.size() / 200);
     std::uint32_t best = inside.front().index;

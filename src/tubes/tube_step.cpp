@@ -144,7 +144,6 @@ double local_resolution(const KdTree& tree, const Eigen::Vector3d& p) {
 // A radius change beyond the limit must cost the fit held at the old radius more than this (chi-square with
 // one degree of freedom, in units of the fit's own noise: 4 standard errors) to end the tube.
 constexpr double kRadiusChangeChi2 = 16.0;
-constexpr int kSparseWindowPoints = 72;  // fewer inliers: a sparse window (2 per 10 deg sector round the tube)
 
 StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::Vector3d& d_in, double r_ref,
                           double arc_ref_deg, double rms_ref_mm, bool bridging, double scale) {
@@ -231,14 +230,17 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
     // there the tube ends only when the data say so, i.e. the fit held at the tube's radius is clearly worse.
     // Dense windows keep the plain limit (on real scans, e.g. PCL's mug, their residuals are not Gaussian
     // enough for the test: the trace ran on over the rim).
+    if (fit.inliers >= kSparseFitInliers) {
+      st.fail = "radius jump";
+      return st;
+    }
     CylinderFitParams held = ctx.fit_params(r_ref, a);
     held.fix_radius = true;
     const CylinderFitResult fixed = fit_cylinder(win, u * t_c, u, r_ref, held);
     const double sigma2 = std::max(fit.rms_mm * fit.rms_mm, 1e-12);
     const double worse = (double(fixed.inliers) * fixed.rms_mm * fixed.rms_mm -
                           double(fit.inliers) * fit.rms_mm * fit.rms_mm) / sigma2;
-    if (fit.inliers >= kSparseWindowPoints || !fixed.ok || fixed.inliers < 0.8 * fit.inliers ||
-        worse > kRadiusChangeChi2) {
+    if (!fixed.ok || fixed.inliers < 0.8 * fit.inliers || worse > kRadiusChangeChi2) {
       st.fail = "radius jump";
       return st;
     }

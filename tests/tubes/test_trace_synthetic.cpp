@@ -97,18 +97,26 @@ double wrong_fraction(const ewis::TubeTrace& t, const synth::Scan& scan, int own
   return total ? static_cast<double>(wrong) / total : 0.0;
 }
 
+// Straight leg, torus arc of bend radius R turning `arc_deg`, straight leg (legs `leg_mm` long), in the plane
+// turned by `rot`, placed at `o`: a dense centreline.
+std::vector<Vector3d> leg_arc_leg(double R, double arc_deg, double leg_mm, const Eigen::Matrix3d& rot, const Vector3d& o,
+                                  int arc_samples) {
+  const double arc = arc_deg * M_PI / 180.0;
+  std::vector<Vector3d> truth;
+  for (const Vector3d& p : synth::line(Vector3d(-leg_mm, -R, 0), Vector3d(0, -R, 0))) truth.push_back(o + rot * p);
+  for (const Vector3d& p :
+       synth::curve([&](double a) { return Vector3d(R * std::sin(a), -R * std::cos(a), 0); }, 0, arc, arc_samples))
+    truth.push_back(o + rot * p);
+  const Vector3d e(R * std::sin(arc), -R * std::cos(arc), 0), te(std::cos(arc), std::sin(arc), 0);
+  for (const Vector3d& p : synth::line(e, e + te * leg_mm)) truth.push_back(o + rot * p);
+  return truth;
+}
+
 TEST(TraceTube, BentTubeTracedEndToEnd) {
   // a 10 mm tube: straight leg, 150 deg torus arc of bend radius 50 mm, straight leg; bend plane tilted
   const double r = 5.0, R = 50.0;
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.5, Vector3d(1, 0.2, 0).normalized()).toRotationMatrix();
-  const Vector3d o(0, 0, 600);
-  const double arc = 150.0 * M_PI / 180.0;
-  std::vector<Vector3d> truth;
-  for (const Vector3d& p : synth::line(Vector3d(-40, -R, 0), Vector3d(0, -R, 0))) truth.push_back(o + rot * p);
-  for (const Vector3d& p : synth::curve([&](double a) { return Vector3d(R * std::sin(a), -R * std::cos(a), 0); }, 0, arc, 400))
-    truth.push_back(o + rot * p);
-  const Vector3d e(R * std::sin(arc), -R * std::cos(arc), 0), te(std::cos(arc), std::sin(arc), 0);
-  for (const Vector3d& p : synth::line(e, e + te * 40)) truth.push_back(o + rot * p);
+  const std::vector<Vector3d> truth = leg_arc_leg(R, 150.0, 40.0, rot, Vector3d(0, 0, 600), 400);
   synth::Scene scene;
   scene.add_tube(truth, r, 0);
   const synth::Scan scan = synth::render(scene);
@@ -129,14 +137,7 @@ TEST(TraceTube, BentTubeTracedEndToEnd) {
 TEST(TraceTube, ThinTubeInASparseNoisyScan) {
   const double r = 1.5, R = 40.0;
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.4, Vector3d(0.3, 1, 0).normalized()).toRotationMatrix();
-  const Vector3d o(0, 0, 600);
-  const double arc = 60.0 * M_PI / 180.0;
-  std::vector<Vector3d> truth;
-  for (const Vector3d& p : synth::line(Vector3d(-80, -R, 0), Vector3d(0, -R, 0))) truth.push_back(o + rot * p);
-  for (const Vector3d& p : synth::curve([&](double a) { return Vector3d(R * std::sin(a), -R * std::cos(a), 0); }, 0, arc, 200))
-    truth.push_back(o + rot * p);
-  const Vector3d e(R * std::sin(arc), -R * std::cos(arc), 0), te(std::cos(arc), std::sin(arc), 0);
-  for (const Vector3d& p : synth::line(e, e + te * 80)) truth.push_back(o + rot * p);
+  const std::vector<Vector3d> truth = leg_arc_leg(R, 60.0, 80.0, rot, Vector3d(0, 0, 600), 200);
   synth::Scene scene;
   scene.add_tube(truth, r, 0);
   ewis::TubeParams params;

@@ -22,6 +22,11 @@ struct CylinderFitParams {
   Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
 };
 
+// A fit with fewer inliers than this (2 per 10 deg sector round the whole circle) is sparse: a thin tube in a
+// sparse scan. Its seen arc is then measured as an angular range, and in the trace its radius is too loose for
+// the plain radius-jump limit (tube_step.cpp).
+constexpr int kSparseFitInliers = 72;
+
 struct CylinderFitResult {
   bool ok = false;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   // on the axis, the foot of the initial point
