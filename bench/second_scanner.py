@@ -10,14 +10,15 @@ as-built scenes differently, in numpy only:
   - isotropic Gaussian noise (per axis, mm), not along the rays;
   - mixed pixels at depth edges (a depth between the near and the far surface);
   - outliers: half uniform in the view frustum, half a wrong depth (3-40 mm off) along a seen pixel's ray;
-  - optionally a floor that the CAD does not have (clutter the registration must ignore).
+  - optionally a floor and boxes around the scene that the CAD does not have (clutter the registration must
+    ignore).
 Each scene of the campaign keeps its scene.obj, plan.json, pose.txt and truth.json (the camera pose is the
 same, so the truth holds); only scan.ply is new. Evaluate the result with `ewis evaluate --campaign OUT`.
 
 Usage:
   second_scanner.py --ewis build/bin/ewis --campaign C --seed S --out OUT [--first I --last J]
                     [--sigma-mm 0.15] [--outliers 0.4] [--focal-px 1150] [--width 1280] [--height 1024]
-                    [--mixed 0.5] [--floor-z Z]
+                    [--mixed 0.5] [--floor-z Z] [--clutter N]
 `--seed` must be the seed the campaign C was simulated with: the as-built meshes are made again with
 `ewis simulate --scene-only` into OUT_asbuilt (a campaign does not keep them) and checked against C's truth.
 """
@@ -30,7 +31,7 @@ import sys
 import numpy as np
 
 
-def read_obj(path, floor_z=None):
+def read_obj(path):
     verts, faces = [], []
     with open(path) as fh:
         for line in fh:
@@ -41,15 +42,44 @@ def read_obj(path, floor_z=None):
                 idx = [i - 1 if i > 0 else len(verts) + i for i in idx]
                 for k in range(1, len(idx) - 1):
                     faces.append([idx[0], idx[k], idx[k + 1]])
-    if floor_z is not None:  # a grid of 50 mm cells over +-1200 mm (small triangles keep the splatting bounded)
-        g = np.arange(-1200.0, 1200.1, 50.0)
-        m, b0 = len(g), len(verts)
-        verts += [[x, y, floor_z] for y in g for x in g]
-        for j in range(m - 1):
-            for i in range(m - 1):
-                q = b0 + j * m + i
-                faces += [[q, q + 1, q + m + 1], [q, q + m + 1, q + m]]
     return np.array(verts, float), np.array(faces, np.int64)
+
+
+def read_floor(floor_z):
+    """A floor: a grid of 50 mm cells over +-1200 mm (small triangles keep the splatting bounded)."""
+    g = np.arange(-1200.0, 1200.1, 50.0)
+    m = len(g)
+    verts = [[x, y, floor_z] for y in g for x in g]
+    faces = []
+    for j in range(m - 1):
+        for i in range(m - 1):
+            q = j * m + i
+            faces += [[q, q + 1, q + m + 1], [q, q + m + 1, q + m]]
+    return np.array(verts, float), np.array(faces, np.int64)
+
+
+def add_clutter(verts, faces, count, base_z, rng):
+    """`count` boxes (30-150 mm, turned about z) standing on z = base_z around the CAD's footprint, not in the
+    CAD: the robot cell, tools, the rest of the aircraft, with corners and edges like the scene's brackets."""
+    lo, hi = verts.min(0), verts.max(0)
+    vs, fs = [verts], [faces]
+    n = len(verts)
+    unit = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], float) - [0.5, 0.5, 0]
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    for _ in range(count):
+        size = rng.uniform(30, 150, 3)
+        side = rng.integers(4)  # which side of the footprint, 20-120 mm beyond it
+        gap = rng.uniform(20, 120) + size[:2].max() / 2
+        t = rng.random()
+        cx = [lo[0] - gap, hi[0] + gap, lo[0] + t * (hi[0] - lo[0]), lo[0] + t * (hi[0] - lo[0])][side]
+        cy = [lo[1] + t * (hi[1] - lo[1]), lo[1] + t * (hi[1] - lo[1]), lo[1] - gap, hi[1] + gap][side]
+        a = rng.uniform(0, np.pi)
+        rot = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+        vs.append((unit * size) @ rot.T + [cx, cy, base_z])
+        for q in quads:
+            fs.append(np.array([[n + q[0], n + q[1], n + q[2]], [n + q[0], n + q[2], n + q[3]]]))
+        n += 8
+    return np.concatenate(vs), np.concatenate(fs)
 
 
 def scan(verts, faces, camera_to_cad, a, rng):
@@ -159,6 +189,8 @@ def main():
     ap.add_argument('--mixed', type=float, default=0.5, help='chance that a depth-edge pixel is mixed')
     ap.add_argument('--max-incidence-deg', type=float, default=78.0)
     ap.add_argument('--floor-z', type=float, default=None, help='a floor at this CAD z, not in the CAD')
+    ap.add_argument('--clutter', type=int, default=0,
+                    help='boxes around the scene, not in the CAD (standing on the floor, or level with the CAD\'s base)')
     a = ap.parse_args()
     scenes = sorted(d for d in os.listdir(a.campaign) if d.startswith('scene_'))
     last = len(scenes) - 1 if a.last < 0 else min(a.last, len(scenes) - 1)
@@ -179,7 +211,13 @@ def main():
             if not os.path.exists(link):
                 os.symlink(os.path.abspath(os.path.join(src, f)), link)
         rng = np.random.default_rng([a.seed, i])
-        verts, faces = read_obj(os.path.join(built, name, 'asbuilt.obj'), a.floor_z)
+        verts, faces = read_obj(os.path.join(built, name, 'asbuilt.obj'))
+        if a.clutter > 0:
+            base = a.floor_z if a.floor_z is not None else verts[:, 2].min()
+            verts, faces = add_clutter(verts, faces, a.clutter, base, np.random.default_rng([a.seed, i, 7]))
+        if a.floor_z is not None:
+            fv, ff = read_floor(a.floor_z)
+            verts, faces = np.concatenate([verts, fv]), np.concatenate([faces, ff + len(verts)])
         pts, surface, mixed = scan(verts, faces, np.array(truth['camera_to_cad']), a, rng)
         write_ply(os.path.join(dst, 'scan.ply'), pts)
         print(f'{name}: {surface} surface points ({mixed} mixed), {len(pts) - surface} outliers', file=sys.stderr)
