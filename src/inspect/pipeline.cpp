@@ -104,6 +104,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   res.registration_fitness = reg.registration.fitness;
   res.registration_converged = reg.registration.converged;
   res.registration_global = reg.used_global;
+  if (reg.free_space.seen > 0) res.registration_in_front_fraction = reg.free_space.fraction();
   res.sensor_position = res.scan_to_cad.translation();
   res.optical_axis = res.scan_to_cad.linear().col(2).normalized();
   report("register", 1.0);

@@ -128,7 +128,9 @@ std::string report_to_json(const InspectionResult& r, const InspectionPlan& plan
   o << "    \"rmse_mm\": " << num(std::max(0.0, r.registration_rmse_mm), 4) << ",\n";
   o << "    \"fitness\": " << num(r.registration_fitness, 4) << ",\n";
   o << "    \"converged\": " << (r.registration_converged ? "true" : "false") << ",\n";
-  o << "    \"global\": " << (r.registration_global ? "true" : "false") << "\n  },\n";
+  o << "    \"global\": " << (r.registration_global ? "true" : "false") << ",\n";
+  o << "    \"in_front_fraction\": "
+    << (r.registration_in_front_fraction >= 0 ? num(r.registration_in_front_fraction, 4) : std::string("null")) << "\n  },\n";
   o << "  \"scan\": { \"points\": " << r.scan_points << ", \"filtered_points\": " << r.filtered_points
     << ", \"resolution_mm\": " << num(r.resolution_mm, 4) << ", \"outlier_radius_mm\": " << num(r.outlier_radius_mm, 4)
     << ", \"outlier_min_neighbors\": " << r.outlier_min_neighbors << " },\n";

@@ -274,9 +274,16 @@ GlobalRegistrationResult register_global(const Cloud& source, const Cloud& targe
   if (source.size() < 3 || target.size() < 3) return res;
   double voxel = params.voxel_mm;
   if (voxel <= 0) {
+    // Sized by the part the clouds share: a scan holding a background larger than the CAD (a floor, the cell)
+    // or a CAD larger than the view is measured by the other cloud.
     Eigen::Vector3f lo, hi;
     bounds(source.points, lo, hi);
-    voxel = std::max(1e-3, static_cast<double>((hi - lo).norm()) / std::max(1.0, params.voxel_div));
+    double diagonal = static_cast<double>((hi - lo).norm());
+    if (params.voxel_from_smaller_cloud) {
+      bounds(target.points, lo, hi);
+      diagonal = std::min(diagonal, static_cast<double>((hi - lo).norm()));
+    }
+    voxel = std::max(1e-3, diagonal / std::max(1.0, params.voxel_div));
   }
   const std::vector<double> scales = params.scale_factors.empty() ? std::vector<double>{1.0} : params.scale_factors;
   bool have = false;

@@ -215,6 +215,9 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
   o << "<tr><td>resolution (median point spacing)</td><td class=\"num\">" << mm(r.resolution_mm, 3) << "</td></tr>\n";
   o << "<tr><td>registration RMSE (paper 4.1.2)</td><td class=\"num\">" << mm(r.registration_rmse_mm, 3) << "</td></tr>\n";
   o << "<tr><td>registration fitness</td><td class=\"num\">" << num(r.registration_fitness * 100.0, 1) << " %</td></tr>\n";
+  if (r.registration_in_front_fraction >= 0)
+    o << "<tr><td>CAD faces in front of the scan</td><td class=\"num\">"
+      << num(r.registration_in_front_fraction * 100.0, 1) << " %</td></tr>\n";
   o << "<tr><td>converged</td><td>" << (r.registration_converged ? "yes" : "no")
     << (r.registration_global ? " (global registration, no initial pose used)" : " (from the initial pose)") << "</td></tr>\n";
   o << "<tr><td>sensor position</td><td class=\"num\">" << vec(r.sensor_position) << "</td></tr>\n</table>\n";

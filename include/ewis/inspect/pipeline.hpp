@@ -101,6 +101,9 @@ struct InspectionResult {
   double registration_fitness = 0.0;
   bool registration_converged = false;
   bool registration_global = false;     // no initial pose (or it failed): global registration was used
+  // Of the CAD's faces toward the sensor, the fraction the registered pose puts in front of what the sensor
+  // measured (free_space.hpp; a right pose: ~1 %); negative when not checked (the scan is not in its sensor's frame).
+  double registration_in_front_fraction = -1.0;
   std::size_t scan_points = 0;          // input
   std::size_t filtered_points = 0;
   double outlier_radius_mm = 0.0;

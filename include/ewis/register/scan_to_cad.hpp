@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "ewis/register/cad_target.hpp"
+#include "ewis/register/free_space.hpp"
 #include "ewis/register/global_registration.hpp"
 #include "ewis/register/icp.hpp"
 #include "ewis/register/veil_points.hpp"
@@ -28,10 +29,20 @@ struct ScanToCadParams {
   // With icp.use_source_viewpoint (the scan in its sensor's frame): veils of mixed pixels are dropped from the
   // subsample before anything else (veil_points.hpp); they bias the pose along weakly constrained directions.
   bool drop_veils = true;
-  // With an initial pose: scan points it maps farther than icp.expected_error_mm outside the CAD's bounding
-  // box are left out (a background the CAD does not model).
+  // Scan points the initial pose maps farther than icp.expected_error_mm outside the CAD's bounding box are left
+  // out when they are a background the CAD does not model (>= 5 % of the scan); without an initial pose, the
+  // same is done with the global search's pose and the registration repeated from it.
   bool crop_to_cad = true;
   VeilParams veil;
+  // Free space (free_space.hpp; with icp.use_source_viewpoint): of the CAD's faces toward the sensor, the fraction
+  // a pose puts nearer than everything the sensor measured along their rays (by more than in_front_margin_mm)
+  // discounts its fitness: poses compete on fitness x (1 - fraction). Right poses: 0-1.4 %; the floor matched
+  // onto a plate: 35 %; a pipe missing from the scan at the right pose: 19 %. A local result above
+  // trusted_in_front_fraction is checked by the global search too; above max_in_front_fraction a pose is not valid.
+  bool check_free_space = true;
+  double trusted_in_front_fraction = 0.1;
+  double max_in_front_fraction = 0.5;
+  double in_front_margin_mm = 10.0;
   // The scan is in its sensor's frame (CONTRACT: scan.ply), so CAD faces turned away from the sensor are culled.
   ScanToCadParams() {
     icp.expected_error_mm = 60.0;
@@ -45,9 +56,10 @@ struct ScanToCadParams {
 struct ScanToCadResult {
   RegistrationResult registration;    // source_to_target = scan_to_cad; fitness over the points used (the
                                       // subsample without veils and without the cable exclusion zone)
-  bool valid = false;                 // fitness >= min_fitness and the ICP converged
+  bool valid = false;                 // fitness >= min_fitness and the scan does not contradict the pose
   bool used_global = false;
   std::size_t excluded_near_cables = 0;  // scan points left out as lying on a cable's CAD position
+  FreeSpaceCount free_space;          // the CAD's faces toward the sensor, and those in front of the scan
 };
 
 // `scan` in scan coordinates (mm, already filtered). Deterministic for any thread count.

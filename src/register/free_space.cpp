@@ -1,0 +1,76 @@
+// Free space seen by the sensor (see the header).
+#include "ewis/register/free_space.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ewis {
+
+RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin) {
+  RangeBins b;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
+  std::size_t n = 0;
+  for (const Eigen::Vector3f& p : scan) {
+    if (!(p.z() > 0.0f)) continue;
+    const Eigen::Vector2d uv(p.x() / p.z(), p.y() / p.z());
+    lo = lo.cwiseMin(uv);
+    hi = hi.cwiseMax(uv);
+    ++n;
+  }
+  // Not a sensor's view (a scan in another frame: points behind the origin, or spread over more than +-63 deg):
+  // no image, no check.
+  if (n < 16 || static_cast<double>(n) < 0.99 * static_cast<double>(scan.size()) || lo.minCoeff() < -2.0 ||
+      hi.maxCoeff() > 2.0)
+    return b;
+  const double area = std::max((hi - lo).prod(), 1e-12);
+  b.bin = std::sqrt(area / static_cast<double>(n) * std::max(1.0, points_per_bin));
+  b.lo = lo;
+  b.width = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / b.bin)) + 1);
+  b.height = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / b.bin)) + 1);
+  const std::size_t cells = static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height);
+  constexpr float kNone = std::numeric_limits<float>::infinity();
+  std::vector<float> first(cells, kNone), second(cells, kNone);
+  for (const Eigen::Vector3f& p : scan) {
+    if (!(p.z() > 0.0f)) continue;
+    const int x = static_cast<int>((p.x() / p.z() - lo.x()) / b.bin), y = static_cast<int>((p.y() / p.z() - lo.y()) / b.bin);
+    if (x < 0 || y < 0 || x >= b.width || y >= b.height) continue;
+    const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(b.width) + static_cast<std::size_t>(x);
+    if (p.z() < first[i]) {
+      second[i] = first[i];
+      first[i] = p.z();
+    } else if (p.z() < second[i]) {
+      second[i] = p.z();
+    }
+  }
+  // The second-nearest depth: one stray point in front (an outlier the filter left) does not hide the bin.
+  for (std::size_t i = 0; i < cells; ++i)
+    if (second[i] == kNone) second[i] = first[i];
+  b.nearest_mm = std::move(second);
+  return b;
+}
+
+FreeSpaceCount count_in_front(const RangeBins& bins, const Cloud& cad_samples, const Pose& scan_to_cad,
+                              double margin_mm) {
+  FreeSpaceCount c;
+  if (bins.bin <= 0.0) return c;
+  const Pose cad_to_scan = scan_to_cad.inverse();
+  const Eigen::Vector3d eye = scan_to_cad.translation();
+  const bool normals = cad_samples.normals.size() == cad_samples.points.size();
+  for (std::size_t i = 0; i < cad_samples.points.size(); ++i) {
+    const Eigen::Vector3d q = cad_samples.points[i].cast<double>();
+    if (normals && cad_samples.normals[i].cast<double>().dot(eye - q) <= 0.0) continue;  // turned away
+    const Eigen::Vector3d p = cad_to_scan * q;
+    if (!(p.z() > 0.0)) continue;
+    const int x = static_cast<int>(std::floor((p.x() / p.z() - bins.lo.x()) / bins.bin));
+    const int y = static_cast<int>(std::floor((p.y() / p.z() - bins.lo.y()) / bins.bin));
+    if (x < 0 || y < 0 || x >= bins.width || y >= bins.height) continue;
+    const float z = bins.nearest_mm[static_cast<std::size_t>(y) * static_cast<std::size_t>(bins.width) + static_cast<std::size_t>(x)];
+    if (!std::isfinite(z)) continue;
+    ++c.seen;
+    c.in_front += p.z() < static_cast<double>(z) - margin_mm;
+  }
+  return c;
+}
+
+}  // namespace ewis
