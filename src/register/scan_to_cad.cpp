@@ -34,10 +34,10 @@ struct Run {
   FreeSpaceCount free_space;  // the CAD's faces toward the sensor that lie in front of what it measured
 };
 
-// How well the scan supports a pose: its fitness (scan points on the CAD), discounted by the CAD's seen faces it
-// puts in front of what the sensor measured (free_space.hpp). Soft, not a veto: a part of the CAD missing from
-// the assembly is in front of what was measured at the right pose too (a pipe missing from a small scene: 19 %;
-// a veto sent that scene to a pose 33 mm off that hid the pipe outside the view, fitness 0.59 against 1.00).
+// How well the scan supports a pose: its fitness, discounted by the fraction of the CAD's seen faces it puts in
+// front of what the sensor measured (free_space.hpp). Soft, not a veto: a part of the CAD missing from the
+// assembly is in front of what was measured at the right pose too (a pipe missing from a small scene: 19 %; a
+// veto sent that scene to a pose 33 mm off that hid the pipe outside the view, fitness 0.59 against 1.00).
 double support(const RegistrationResult& reg, const FreeSpaceCount& c) { return reg.fitness * (1.0 - c.fraction()); }
 
 // The CAD samples a pass may match: facing the sensor (when the scan is in its sensor's frame: a scanned plate's
@@ -126,6 +126,31 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   return run;
 }
 
+// What `pose` maps farther than `grow_mm` outside the CAD's box cannot be on the CAD: a floor, the robot cell,
+// the rest of the aircraft. Returns the scan without it when it is a background: at least kMinBackgroundFraction
+// of the scan (after outlier removal a scan of the scene alone has ~0.03 % there, and dropping those only
+// redraws the subsample: on the 140-scene campaign that moved 3 registrations past 0.3 mm, both ways), and not so
+// much that under a tenth would remain (the pose is then far off; the global search needs all). Else empty.
+std::vector<Eigen::Vector3f> without_background(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target,
+                                                const Pose& pose, double grow_mm) {
+  std::vector<Eigen::Vector3f> cropped;
+  if (scan.empty()) return cropped;
+  const Eigen::AlignedBox3d box = cad_box(target);
+  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(grow_mm);
+  const Eigen::AlignedBox3f reach = Eigen::AlignedBox3d(box.min() - grow, box.max() + grow).cast<float>();
+  const Eigen::Matrix3f R = pose.linear().cast<float>();
+  const Eigen::Vector3f t = pose.translation().cast<float>();
+  std::size_t inside = 0;
+  for (const Eigen::Vector3f& p : scan) inside += reach.contains(R * p + t);
+  const double outside = 1.0 - static_cast<double>(inside) / static_cast<double>(scan.size());
+  if (inside >= scan.size() / 10 && outside >= kMinBackgroundFraction) {
+    cropped.reserve(inside);
+    for (const Eigen::Vector3f& p : scan)
+      if (reach.contains(R * p + t)) cropped.push_back(p);
+  }
+  return cropped;
+}
+
 // `scan_per_point`: scan points each subsample point stands for (to report counts for the whole scan).
 ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, double scan_per_point,
                                    const CadTarget& target, const std::optional<Pose>& initial_scan_to_cad,
@@ -185,11 +210,29 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
         ranked.emplace_back(support(evaluate_registration(scan, all, rigid_tree, T, tight, probe), seen), i);
       }
       std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-      const std::size_t n = std::min<std::size_t>(ranked.size(), std::max(1, params.global_candidates));
-      for (std::size_t i = 0; i < n; ++i) starts.push_back(g.candidates[ranked[i].second].source_to_target);
+      // Distinct starts: candidates of different scales often converged to the same pose, and three refinements
+      // of one wrong pose left the right one, ranked fourth, unrefined (a floor-and-boxes scene).
+      const std::size_t n = static_cast<std::size_t>(std::max(1, params.global_candidates));
+      for (std::size_t k = 0; k < ranked.size() && starts.size() < n; ++k) {
+        const Pose& T = g.candidates[ranked[k].second].source_to_target;
+        const bool repeated = std::any_of(starts.begin(), starts.end(), [&](const Pose& S) {
+          return Eigen::AngleAxisd(S.linear().transpose() * T.linear()).angle() < 2.0 * M_PI / 180.0 &&
+                 (S.translation() - T.translation()).norm() < 2.0 * g.voxel_mm;
+        });
+        if (!repeated) starts.push_back(T);
+      }
     }
-    for (const Pose& start : starts)
-      consider(refine(scan, target, start, std::max(2.0 * voxel_mm, 5.0), params, progress, bins), true);
+    // Each refined without the background its start shows, as an initial pose is (beyond the CAD's box grown
+    // by icp.expected_error_mm: a tighter box also drops the points that speak against a wrong start, and a
+    // small scene's plate seen from behind, its cable's points cropped, fitted perfectly): a floor-and-boxes
+    // scene's right start slid 190 mm along the plate, pulled by the boxes beside it.
+    const double expected_mm = std::max(2.0 * voxel_mm, 5.0);
+    for (const Pose& start : starts) {
+      const std::vector<Eigen::Vector3f> cropped =
+          params.crop_to_cad ? without_background(scan, target, start, params.icp.expected_error_mm)
+                             : std::vector<Eigen::Vector3f>{};
+      consider(refine(cropped.empty() ? scan : cropped, target, start, expected_mm, params, progress, bins), true);
+    }
   }
   res.valid = have && res.registration.fitness >= params.min_fitness &&
               res.free_space.fraction() <= params.max_in_front_fraction;
@@ -197,31 +240,6 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   res.excluded_near_cables =
       static_cast<std::size_t>(std::llround(static_cast<double>(res.excluded_near_cables) * scan_per_point));
   return res;
-}
-
-// What `pose` maps farther than `grow_mm` outside the CAD's box cannot be on the CAD: a floor, the robot cell,
-// the rest of the aircraft. Returns the scan without it when it is a background: at least kMinBackgroundFraction
-// of the scan (after outlier removal a scan of the scene alone has ~0.03 % there, and dropping those only
-// redraws the subsample: on the 140-scene campaign that moved 3 registrations past 0.3 mm, both ways), and not so
-// much that under a tenth would remain (the pose is then far off; the global search needs all). Else empty.
-std::vector<Eigen::Vector3f> without_background(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target,
-                                                const Pose& pose, double grow_mm) {
-  std::vector<Eigen::Vector3f> cropped;
-  if (scan.empty()) return cropped;
-  const Eigen::AlignedBox3d box = cad_box(target);
-  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(grow_mm);
-  const Eigen::AlignedBox3f reach = Eigen::AlignedBox3d(box.min() - grow, box.max() + grow).cast<float>();
-  const Eigen::Matrix3f R = pose.linear().cast<float>();
-  const Eigen::Vector3f t = pose.translation().cast<float>();
-  std::size_t inside = 0;
-  for (const Eigen::Vector3f& p : scan) inside += reach.contains(R * p + t);
-  const double outside = 1.0 - static_cast<double>(inside) / static_cast<double>(scan.size());
-  if (inside >= scan.size() / 10 && outside >= kMinBackgroundFraction) {
-    cropped.reserve(inside);
-    for (const Eigen::Vector3f& p : scan)
-      if (reach.contains(R * p + t)) cropped.push_back(p);
-  }
-  return cropped;
 }
 
 ScanToCadResult register_points(const std::vector<Eigen::Vector3f>& all, const CadTarget& target,
@@ -286,6 +304,9 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
     if (!cropped.empty()) {
       ScanToCadParams again = params;
       again.global_fallback = false;
+      // The global pose is refined at full resolution already: from it, a coarse pass reaching 3 x 60 mm slid
+      // the floor test's right pose 300 mm along its plate.
+      again.icp.expected_error_mm = std::min(params.icp.expected_error_mm, 10.0);
       ScanToCadResult r = register_points(cropped, target, res.registration.source_to_target, again, progress, seen);
       if (r.valid) {
         r.used_global = true;
