@@ -22,7 +22,6 @@
 #include "ewis/core/parallel.hpp"
 #include "ewis/register/free_space.hpp"
 #include "ewis/register/veil_points.hpp"
-
 #include "ewis/search/spatial_sort.hpp"
 
 namespace ewis {
@@ -171,8 +170,8 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   if (initial_scan_to_cad)
     consider(refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins), false);
   // A pose slid along a symmetry of the scene (parallel pipes, a plate's long edge) still validates, but with a
-  // fitness well below a right pose's: below trusted_fitness the global registration is tried too, and the
-  // higher fitness wins.
+  // fitness well below a right pose's: below trusted_fitness (or above trusted_in_front_fraction) the global
+  // registration is tried too, and the higher support wins.
   const bool ok = have && res.registration.fitness >= std::max(params.min_fitness, params.trusted_fitness) &&
                   res.free_space.fraction() <= params.trusted_in_front_fraction;
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
@@ -265,8 +264,8 @@ ScanToCadResult register_points(const std::vector<Eigen::Vector3f>& all, const C
     ScanToCadParams plain = params;
     plain.icp.use_source_viewpoint = false;
     ScanToCadResult retry = register_subsample(sub, per_point, target, initial_scan_to_cad, plain, progress, bins);
-    if ((retry.valid && !res.valid) || (retry.valid == res.valid && retry.registration.fitness > res.registration.fitness))
-      res = retry;
+    const bool better = retry.registration.fitness > res.registration.fitness;
+    if ((retry.valid && !res.valid) || (retry.valid == res.valid && better)) res = retry;
   }
   return res;
 }
@@ -281,8 +280,8 @@ ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
   // A background (see without_background) pulls the ICP (a floor 150 mm under the scene's plate held 6 mm and
   // 1 deg of error) and outvotes the scene in the fitness by which a global candidate is preferred and a pose
   // validated (that floor, matched onto the plate: 190 mm off). With an initial pose it is left out before the
-  // subsample is drawn (so that holds as many scene points as before).
-  // The sensor's range image, from the whole scan (background included: it is seen free space too).
+  // subsample is drawn (so that holds as many scene points as before). The sensor's range image is binned from
+  // the whole scan (the background included: it is seen free space too).
   const RangeBins bins = params.icp.use_source_viewpoint && params.check_free_space
                              ? bin_scan_depths(scan.points)
                              : RangeBins{};
