@@ -3,9 +3,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace ewis {
+namespace {
+
+// The bin of a point in the sensor's frame; -1 behind the sensor or outside the image.
+std::ptrdiff_t bin_index(const RangeBins& b, double x, double y, double z) {
+  if (!(z > 0.0)) return -1;
+  const double u = std::floor((x / z - b.lo.x()) / b.bin), v = std::floor((y / z - b.lo.y()) / b.bin);
+  if (u < 0.0 || v < 0.0 || u >= b.width || v >= b.height) return -1;
+  return static_cast<std::ptrdiff_t>(v) * b.width + static_cast<std::ptrdiff_t>(u);
+}
+
+}  // namespace
 
 RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin) {
   RangeBins b;
@@ -13,7 +25,8 @@ RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double point
   std::size_t n = 0;
   for (const Eigen::Vector3f& p : scan) {
     if (!(p.z() > 0.0f)) continue;
-    const Eigen::Vector2d uv(p.x() / p.z(), p.y() / p.z());
+    const Eigen::Vector3d q = p.cast<double>();  // as bin_index divides
+    const Eigen::Vector2d uv(q.x() / q.z(), q.y() / q.z());
     lo = lo.cwiseMin(uv);
     hi = hi.cwiseMax(uv);
     ++n;
@@ -32,10 +45,9 @@ RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double point
   constexpr float kNone = std::numeric_limits<float>::infinity();
   std::vector<float> first(cells, kNone), second(cells, kNone);
   for (const Eigen::Vector3f& p : scan) {
-    if (!(p.z() > 0.0f)) continue;
-    const int x = static_cast<int>((p.x() / p.z() - lo.x()) / b.bin), y = static_cast<int>((p.y() / p.z() - lo.y()) / b.bin);
-    if (x < 0 || y < 0 || x >= b.width || y >= b.height) continue;
-    const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(b.width) + static_cast<std::size_t>(x);
+    const std::ptrdiff_t k = bin_index(b, p.x(), p.y(), p.z());
+    if (k < 0) continue;
+    const std::size_t i = static_cast<std::size_t>(k);
     if (p.z() < first[i]) {
       second[i] = first[i];
       first[i] = p.z();
@@ -61,11 +73,9 @@ FreeSpaceCount count_in_front(const RangeBins& bins, const Cloud& cad_samples, c
     const Eigen::Vector3d q = cad_samples.points[i].cast<double>();
     if (normals && cad_samples.normals[i].cast<double>().dot(eye - q) <= 0.0) continue;  // turned away
     const Eigen::Vector3d p = cad_to_scan * q;
-    if (!(p.z() > 0.0)) continue;
-    const int x = static_cast<int>(std::floor((p.x() / p.z() - bins.lo.x()) / bins.bin));
-    const int y = static_cast<int>(std::floor((p.y() / p.z() - bins.lo.y()) / bins.bin));
-    if (x < 0 || y < 0 || x >= bins.width || y >= bins.height) continue;
-    const float z = bins.nearest_mm[static_cast<std::size_t>(y) * static_cast<std::size_t>(bins.width) + static_cast<std::size_t>(x)];
+    const std::ptrdiff_t k = bin_index(bins, p.x(), p.y(), p.z());
+    if (k < 0) continue;
+    const float z = bins.nearest_mm[static_cast<std::size_t>(k)];
     if (!std::isfinite(z)) continue;
     ++c.seen;
     c.in_front += p.z() < static_cast<double>(z) - margin_mm;

@@ -215,8 +215,7 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
       for (std::size_t k = 0; k < ranked.size() && starts.size() < n; ++k) {
         const Pose& T = g.candidates[ranked[k].second].source_to_target;
         const bool repeated = std::any_of(starts.begin(), starts.end(), [&](const Pose& S) {
-          return Eigen::AngleAxisd(S.linear().transpose() * T.linear()).angle() < 2.0 * M_PI / 180.0 &&
-                 (S.translation() - T.translation()).norm() < 2.0 * g.voxel_mm;
+          return rotation_error_deg(S, T) < 2.0 && translation_error_mm(S, T) < 2.0 * g.voxel_mm;
         });
         if (!repeated) starts.push_back(T);
       }

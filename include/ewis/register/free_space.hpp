@@ -18,15 +18,16 @@ namespace ewis {
 // The nearest measured depth per angular bin (u = x / z, v = y / z) of a scan in its sensor's frame (the
 // second-nearest point's: a stray point in front does not hide what the bin saw; a bin of one point: its depth).
 struct RangeBins {
-  double bin = 0.0;                     // bin size (tangent units); 0: no image (no point in front of the sensor)
+  double bin = 0.0;                     // bin size (tangent units); 0: no image (not a sensor's view)
   Eigen::Vector2d lo = Eigen::Vector2d::Zero();
   int width = 0, height = 0;
   std::vector<float> nearest_mm;        // per bin (row-major); +infinity where nothing was measured
 };
 
 // No image (bin 0) when the scan does not look like a sensor's view: under 99 % of its points in front of the
-// origin (z > 0), or its rays spread beyond +-63 deg. `points_per_bin`: the bins are sized so that, were the scan spread evenly over its angular box, each would hold
-// about this many points (a bin must nearly always hold a point of the surface it looks at).
+// origin (z > 0), or its rays spread beyond +-63 deg. `points_per_bin`: the bins are sized so that, were the scan
+// spread evenly over its angular box, each would hold about this many points (a bin must nearly always hold a
+// point of the surface it looks at).
 RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin = 16.0);
 
 struct FreeSpaceCount {

@@ -56,7 +56,7 @@ struct ScanToCadParams {
 struct ScanToCadResult {
   RegistrationResult registration;    // source_to_target = scan_to_cad; fitness over the points used (the
                                       // subsample without veils and without the cable exclusion zone)
-  bool valid = false;                 // fitness >= min_fitness and the scan does not contradict the pose
+  bool valid = false;                 // fitness >= min_fitness, in-front fraction <= max_in_front_fraction
   bool used_global = false;
   std::size_t excluded_near_cables = 0;  // scan points left out as lying on a cable's CAD position
   FreeSpaceCount free_space;          // the CAD's faces toward the sensor, and those in front of the scan
