@@ -2,6 +2,7 @@
 // scan-to-CAD registration (point-to-plane onto triangle-normal samples); cloud onto cloud estimates target
 // normals; a mesh source is sampled into a cloud. Without --pose the registration is global.
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -66,6 +67,7 @@ Command add_register(CLI::App& root, CommonOptions& common) {
 
     RegistrationResult reg;
     bool valid = false, used_global = false;
+    std::string why = "is below the least accepted (the clouds may not overlap, or the initial pose is too far off)";
     if (tgt.is_mesh) {
       const KdTree tree(src.cloud.points);
       const double res_mm = spatial_resolution(tree, 20000).mean_mm;
@@ -81,6 +83,9 @@ Command add_register(CLI::App& root, CommonOptions& common) {
       reg = r.registration;
       valid = r.valid;
       used_global = r.used_global;
+      if (r.registration.fitness >= sp.min_fitness && r.free_space.fraction() > sp.max_in_front_fraction)
+        why = "is enough, but the pose puts " + std::to_string(std::lround(100.0 * r.free_space.fraction())) +
+              " % of the target's faces toward the sensor in front of what the source measured";
     } else {
       CloudRegistrationParams cp;
       cp.global.seed = opt->seed;
@@ -101,8 +106,7 @@ Command add_register(CLI::App& root, CommonOptions& common) {
                            {"seconds", seconds}};
     if (!valid) {
       std::cout << line.dump() << std::endl;
-      throw ProcessingError("registration failed: fitness " + std::to_string(reg.fitness) +
-                            " is below the least accepted (the clouds may not overlap, or the initial pose is too far off)");
+      throw ProcessingError("registration failed: fitness " + std::to_string(reg.fitness) + " " + why);
     }
     write_pose(reg.source_to_target, opt->out);
     std::cout << line.dump() << std::endl;

@@ -98,7 +98,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   }
   if (!reg.valid)
     throw ProcessingError("registration to the CAD failed (fitness " + std::to_string(reg.registration.fitness) +
-                          ", rmse " + std::to_string(reg.registration.rmse_mm) + " mm)");
+                          ", rmse " + std::to_string(reg.registration.rmse_mm) + " mm, CAD faces in front of the scan " +
+                          std::to_string(std::lround(100.0 * reg.free_space.fraction())) + " %)");
   res.scan_to_cad = reg.registration.source_to_target;
   res.registration_rmse_mm = reg.registration.rmse_mm;
   res.registration_fitness = reg.registration.fitness;
