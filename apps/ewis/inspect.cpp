@@ -51,6 +51,7 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
 
     const InspectionResult result = inspect(scene, plan, std::move(scan.cloud), pose, InspectParams{}, make_progress(common));
     const std::string json = report_to_json(result, plan);
+    for (const std::string& w : result.warnings) std::cerr << "ewis: warning: " << opt->scan << ": " << w << "\n";
 
     const auto tw = clock::now();
     ensure_directory(opt->out);

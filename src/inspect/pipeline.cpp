@@ -13,6 +13,7 @@
 #include "ewis/inspect/run_conflicts.hpp"
 #include "ewis/inspect/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
+#include "ewis/register/sensor_origin.hpp"
 #include "ewis/core/scratch.hpp"
 #include "ewis/search/spatial_sort.hpp"
 #include "ewis/sample/mesh_sampling.hpp"
@@ -82,6 +83,19 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   if (filtered.size() < 10) throw ProcessingError("fewer than 10 scan points are left after outlier removal");
   report("filter", 1.0);
   clock.lap("filter");
+
+  // Everything along the sensor's rays (veils, free space, back faces, the tubes' rays, hidden interference) takes
+  // the sensor at the scan's origin (CONTRACT: scans in the sensor's frame). A scan saved in another frame (a
+  // robot's, the CAD's) is not a depth image from there (register/sensor_origin.hpp): measured and reported, not
+  // corrected (the occlusions place its sensor too roughly to stand in for it).
+  res.sensor_origin_occluded_fraction = occluded_from_origin(filtered.points);
+  res.sensor_at_scan_origin = res.sensor_origin_occluded_fraction <= kNotSensorFrameFraction;
+  if (!res.sensor_at_scan_origin)
+    res.warnings.push_back("the scan is not a depth image seen from its origin (" +
+                           std::to_string(std::lround(100.0 * res.sensor_origin_occluded_fraction)) +
+                           " % of its points lie behind others on their ray): it is not in its sensor's frame, which "
+                           "the inspection assumes; expect a wrong registration or verdict");
+  clock.lap("sensor");
 
   // paper 4.1.2: registration on the rigid elements (cables move).
   report("register", 0.0);

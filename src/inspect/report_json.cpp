@@ -133,7 +133,9 @@ std::string report_to_json(const InspectionResult& r, const InspectionPlan& plan
     << (r.registration_in_front_fraction >= 0 ? num(r.registration_in_front_fraction, 4) : std::string("null")) << "\n  },\n";
   o << "  \"scan\": { \"points\": " << r.scan_points << ", \"filtered_points\": " << r.filtered_points
     << ", \"resolution_mm\": " << num(r.resolution_mm, 4) << ", \"outlier_radius_mm\": " << num(r.outlier_radius_mm, 4)
-    << ", \"outlier_min_neighbors\": " << r.outlier_min_neighbors << " },\n";
+    << ", \"outlier_min_neighbors\": " << r.outlier_min_neighbors
+    << ", \"occluded_from_origin\": " << num(r.sensor_origin_occluded_fraction, 4)
+    << ", \"sensor_frame\": " << (r.sensor_at_scan_origin ? "true" : "false") << " },\n";
   o << "  \"elements\": [";
   // Plan order: cables and (when listed) rigid elements as the plan gives them.
   bool first = true;

@@ -220,7 +220,12 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
       << num(r.registration_in_front_fraction * 100.0, 1) << " %</td></tr>\n";
   o << "<tr><td>converged</td><td>" << (r.registration_converged ? "yes" : "no")
     << (r.registration_global ? " (global registration, no initial pose used)" : " (from the initial pose)") << "</td></tr>\n";
-  o << "<tr><td>sensor position</td><td class=\"num\">" << vec(r.sensor_position) << "</td></tr>\n</table>\n";
+  o << "<tr><td>sensor position</td><td class=\"num\">" << vec(r.sensor_position) << "</td></tr>\n";
+  o << "<tr><td>scan points hidden behind others, seen from its origin</td><td class=\"num\">"
+    << num(r.sensor_origin_occluded_fraction * 100.0, 1) << " %"
+    << (r.sensor_at_scan_origin ? "" : " <b>(not in its sensor's frame: the results are not to be trusted)</b>")
+    << "</td></tr>\n</table>\n";
+  for (const std::string& w : r.warnings) o << "<p><b>Warning:</b> " << html_escape(w) << "</p>\n";
   if (params.include_timings && !r.timings.empty()) {
     o << "<h3>Time per step</h3>\n<table>\n<tr><th>step</th><th>seconds</th></tr>\n";
     double total = 0;

@@ -14,8 +14,8 @@ import subprocess
 import unittest
 
 from ewis_cli import grid, run, tmpdir, write_ply_binary, write_xyz
-from scene_fixtures import (SEED_ON_CABLE, SmallScene, box_mesh, cable_scan_points, error_line, pcd, plan_doc,
-                            ply_ascii, run_limited, skip_if_not_available, to_camera, write_json, write_obj,
+from scene_fixtures import (IDENTITY, SEED_ON_CABLE, SmallScene, box_mesh, cable_scan_points, error_line, pcd,
+                            plan_doc, ply_ascii, run_limited, skip_if_not_available, to_camera, write_json, write_obj,
                             write_text)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -467,6 +467,35 @@ class ScanContentTest(Common, unittest.TestCase):
             self.assertEqual(report["verdict"], "fail")
             cable = [e for e in report["elements"] if e["name"] == "cable_A"][0]
             self.assertFalse(cable["found"])
+    def test_scan_not_in_its_sensor_frame_is_reported(self):
+        """A scan saved in CAD coordinates (its pose then the identity) is not a depth image from its origin: the
+        inspection, which takes the sensor at the scan's origin, says so on stderr and in report.json."""
+        path = os.path.join(self.d, "cad_frame.ply")
+        write_ply_binary(path, cable_scan_points())
+        pose = write_text(os.path.join(self.d, "identity.txt"), IDENTITY)
+        out = os.path.join(self.d, "cad-frame")
+        proc = run_limited(["inspect", "--cad", self.scene.cad, "--plan", self.scene.plan, "--scan", path, "--pose",
+                            pose, "--out", out, "-q"])
+        skip_if_not_available(self, proc)
+        self.assertIn(proc.returncode, (0, 3), proc.stderr)
+        self.assertIn("not in its sensor's frame", proc.stderr)
+        self.assertIn(path, proc.stderr)
+        if proc.returncode == 0:
+            with open(os.path.join(out, "report.json")) as f:
+                scan = json.load(f)["scan"]
+            self.assertFalse(scan["sensor_frame"])
+            self.assertGreater(scan["occluded_from_origin"], 0.5)
+        # The same points in the camera frame: no warning.
+        out2 = os.path.join(self.d, "camera-frame")
+        proc = run_limited(["inspect", "--cad", self.scene.cad, "--plan", self.scene.plan, "--scan", self.scene.scan,
+                            "--pose", self.scene.pose, "--out", out2, "-q"])
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertNotIn("warning", proc.stderr)
+        with open(os.path.join(out2, "report.json")) as f:
+            scan = json.load(f)["scan"]
+        self.assertTrue(scan["sensor_frame"])
+        self.assertLess(scan["occluded_from_origin"], 0.5)
+
     def test_scan_in_metres_read_as_mm_is_reported(self):
         """Was a gap, now fixed: a scan in metres read as mm (resolution ~0.002 mm against a CAD 160 mm wide) should be refused with
         exit 2 and a line naming the file and --scan-units. inspect says "registration to the CAD failed (fitness

@@ -1,0 +1,41 @@
+#pragma once
+// Is a scan in its sensor's frame? Everything that reasons along the sensor's rays (veils of mixed pixels, free
+// space, back faces in the registration, the tubes' view of a round surface, hidden interference) takes the sensor
+// at the scan's origin, as CONTRACT.md's scans are. A scan saved in a robot's or the CAD's frame breaks that
+// silently: two campaign scenes moved into CAD coordinates (`--pose` then near the identity) registered 180 deg
+// off or traced no cable, and both raised false alarms.
+//
+// The test: seen from its sensor, a one-shot scan is a depth image, so no point lies far behind another on the
+// same ray. Points are binned by their ray from the sensor (about 4 points a bin); a point more than `margin_mm`
+// behind the second-nearest one of its bin (one stray outlier in front hides nothing), or behind the sensor, is
+// occluded. Measured from the origin: the 140-scene campaign's filtered scans 13-17 % (outliers left behind the
+// surfaces, depth edges), one raw scan (40 % outliers) 31 %; the same scans in CAD coordinates 99-100 %.
+//
+// What it cannot tell: a depth image is (nearly) one from behind too, so a scan turned over in front of the origin
+// passes; and from the occlusions alone the sensor cannot be placed well enough to stand in for it (a search over
+// directions found it 9-19 deg off, one on the wrong side of the surfaces; docs/register.md).
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ewis/core/pose.hpp"
+
+namespace ewis {
+
+// Occluded fraction of `points` seen from `sensor_to_scan` (its z axis the viewing direction): points at or
+// behind the sensor's plane count as occluded. `bin_rad` (tangent units) <= 0: about 4 points a bin over the box
+// the rays span.
+double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose& sensor_to_scan, double bin_rad = 0.0,
+                         double margin_mm = 10.0);
+
+// The same from the scan's origin looking along +z, on an even subsample of at most `max_points`.
+double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, std::size_t max_points = 20000,
+                            double margin_mm = 10.0);
+
+// Above this, a filtered scan is not in its sensor's frame (the campaign's: 13-17 %; in CAD coordinates: 99 %). Seen
+// from beside the scene, 30-60 deg off its sensor, the test scene of the unit tests reads only 15-21 %: the test
+// catches an origin inside or under the scene, not every wrong frame. Raw scans read higher (40 % outliers: 31 %).
+inline constexpr double kNotSensorFrameFraction = 0.5;
+
+}  // namespace ewis
