@@ -38,12 +38,11 @@ double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose&
     const double area = std::max((uhi - ulo) * (vhi - vlo), 1e-12);
     bin_rad = std::sqrt(area * 4.0 / static_cast<double>(rays.size()));
   }
+  // Bin indices clamped below 2^30 (rays nearly parallel to the sensor's plane spread far): the key cannot overflow.
+  auto index = [bin_rad](double t) { return static_cast<std::int64_t>(std::min(std::floor(t / bin_rad), 1e9)); };
   std::vector<std::pair<std::int64_t, double>> keyed(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const std::int64_t iu = static_cast<std::int64_t>(std::floor((rays[i].u - ulo) / bin_rad));
-    const std::int64_t iv = static_cast<std::int64_t>(std::floor((rays[i].v - vlo) / bin_rad));
-    keyed[i] = {(iu << 31) + iv, rays[i].depth};
-  }
+  for (std::size_t i = 0; i < rays.size(); ++i)
+    keyed[i] = {index(rays[i].u - ulo) * (std::int64_t{1} << 31) + index(rays[i].v - vlo), rays[i].depth};
   std::sort(keyed.begin(), keyed.end());
   // Sorted by bin, then depth: each bin's second point is its second-nearest (the reference: a stray outlier in
   // front of a surface must not hide it).
