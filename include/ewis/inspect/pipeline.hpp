@@ -98,7 +98,7 @@ struct InspectionResult {
   bool pass = false;
   Pose scan_to_cad = Pose::Identity();
   // Of the filtered scan seen from its origin, the fraction hidden behind other points on their ray
-  // (register/sensor_origin.hpp; the campaign's scans: 13-17 %, the same scans in CAD coordinates: 99 %).
+  // (register/sensor_origin.hpp; the campaign's scans: 12-17 %, the same scans in CAD coordinates: 99 %).
   double sensor_origin_occluded_fraction = 0.0;
   bool sensor_at_scan_origin = true;    // that fraction is at most kNotSensorFrameFraction
   std::vector<std::string> warnings;    // what the user should know (printed on stderr by the CLI)

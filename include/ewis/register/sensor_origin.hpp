@@ -8,7 +8,7 @@
 // The test: seen from its sensor, a one-shot scan is a depth image, so no point lies far behind another on the
 // same ray. Points are binned by their ray from the sensor (about 4 points a bin); a point more than `margin_mm`
 // behind the second-nearest one of its bin (one stray outlier in front hides nothing), or behind the sensor, is
-// occluded. Measured from the origin: the 140-scene campaign's filtered scans 13-17 % (outliers left behind the
+// occluded. Measured from the origin: the 140-scene campaign's filtered scans 12-17 % (outliers left behind the
 // surfaces, depth edges), one raw scan (40 % outliers) 31 %; the same scans in CAD coordinates 99-100 %.
 //
 // What it cannot tell: a depth image is (nearly) one from behind too, so a scan turned over in front of the origin
@@ -33,7 +33,7 @@ double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose&
 double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, std::size_t max_points = 20000,
                             double margin_mm = 10.0);
 
-// Above this, a filtered scan is not in its sensor's frame (the campaign's: 13-17 %; in CAD coordinates: 99 %). Seen
+// Above this, a filtered scan is not in its sensor's frame (the campaign's: 12-17 %; in CAD coordinates: 99 %). Seen
 // from beside the scene, 30-60 deg off its sensor, the test scene of the unit tests reads only 15-21 %: the test
 // catches an origin inside or under the scene, not every wrong frame. Raw scans read higher (40 % outliers: 31 %).
 inline constexpr double kNotSensorFrameFraction = 0.5;
