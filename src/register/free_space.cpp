@@ -7,45 +7,41 @@
 #include <limits>
 
 namespace ewis {
-namespace {
 
-// The bin of a point in the sensor's frame; -1 behind the sensor or outside the image.
-std::ptrdiff_t bin_index(const RangeBins& b, double x, double y, double z) {
-  if (!(z > 0.0)) return -1;
-  const double u = std::floor((x / z - b.lo.x()) / b.bin), v = std::floor((y / z - b.lo.y()) / b.bin);
-  if (u < 0.0 || v < 0.0 || u >= b.width || v >= b.height) return -1;
+std::ptrdiff_t range_bin(const RangeBins& b, const Eigen::Vector3d& p) {
+  if (!(p.z() > 0.0) || !(b.bin > 0.0)) return -1;
+  const double u = std::floor((p.x() / p.z() - b.lo.x()) / b.bin), v = std::floor((p.y() / p.z() - b.lo.y()) / b.bin);
+  if (!(u >= 0.0 && v >= 0.0 && u < b.width && v < b.height)) return -1;
   return static_cast<std::ptrdiff_t>(v) * b.width + static_cast<std::ptrdiff_t>(u);
 }
 
-}  // namespace
-
-RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin) {
+RangeBins bin_depths(const std::vector<Eigen::Vector3f>& points, double points_per_bin) {
   RangeBins b;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
   std::size_t n = 0;
-  for (const Eigen::Vector3f& p : scan) {
+  for (const Eigen::Vector3f& p : points) {
     if (!(p.z() > 0.0f)) continue;
-    const Eigen::Vector3d q = p.cast<double>();  // as bin_index divides
+    const Eigen::Vector3d q = p.cast<double>();  // as range_bin divides
     const Eigen::Vector2d uv(q.x() / q.z(), q.y() / q.z());
+    if (!uv.allFinite()) continue;
     lo = lo.cwiseMin(uv);
     hi = hi.cwiseMax(uv);
     ++n;
   }
-  // Not a sensor's view (a scan in another frame: points behind the origin, or spread over more than +-63 deg):
-  // no image, no check.
-  if (n < 16 || static_cast<double>(n) < 0.99 * static_cast<double>(scan.size()) || lo.minCoeff() < -2.0 ||
-      hi.maxCoeff() > 2.0)
-    return b;
-  const double area = std::max((hi - lo).prod(), 1e-12);
-  b.bin = std::sqrt(area / static_cast<double>(n) * std::max(1.0, points_per_bin));
+  if (n < 2) return b;
+  const double per_bin = std::max(1.0, points_per_bin), count = static_cast<double>(n);
+  const Eigen::Vector2d extent = hi - lo;
+  // Sized from the box's area; at least the longer side over (count / per_bin) bins (rays in one plane: a box of
+  // no area), and never zero.
+  b.bin = std::max({std::sqrt(extent.prod() / count * per_bin), extent.maxCoeff() * per_bin / count, 1e-9});
   b.lo = lo;
-  b.width = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / b.bin)) + 1);
-  b.height = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / b.bin)) + 1);
+  b.width = static_cast<int>(std::ceil(extent.x() / b.bin)) + 1;
+  b.height = static_cast<int>(std::ceil(extent.y() / b.bin)) + 1;
   const std::size_t cells = static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height);
   constexpr float kNone = std::numeric_limits<float>::infinity();
   std::vector<float> first(cells, kNone), second(cells, kNone);
-  for (const Eigen::Vector3f& p : scan) {
-    const std::ptrdiff_t k = bin_index(b, p.x(), p.y(), p.z());
+  for (const Eigen::Vector3f& p : points) {
+    const std::ptrdiff_t k = range_bin(b, p.cast<double>());
     if (k < 0) continue;
     const std::size_t i = static_cast<std::size_t>(k);
     if (p.z() < first[i]) {
@@ -62,6 +58,21 @@ RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double point
   return b;
 }
 
+RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin) {
+  std::size_t in_front = 0;
+  double reach = 0.0;  // the largest |x / z|, |y / z| of the points in front
+  for (const Eigen::Vector3f& p : scan) {
+    if (!(p.z() > 0.0f)) continue;
+    ++in_front;
+    reach = std::max({reach, std::abs(double{p.x()} / p.z()), std::abs(double{p.y()} / p.z())});
+  }
+  // Not a sensor's view (a scan in another frame: points behind the origin, or spread over more than +-63 deg):
+  // no image, no check.
+  if (in_front < 16 || static_cast<double>(in_front) < 0.99 * static_cast<double>(scan.size()) || reach > 2.0)
+    return RangeBins{};
+  return bin_depths(scan, points_per_bin);
+}
+
 FreeSpaceCount count_in_front(const RangeBins& bins, const Cloud& cad_samples, const Pose& scan_to_cad,
                               double margin_mm) {
   FreeSpaceCount c;
@@ -73,7 +84,7 @@ FreeSpaceCount count_in_front(const RangeBins& bins, const Cloud& cad_samples, c
     const Eigen::Vector3d q = cad_samples.points[i].cast<double>();
     if (normals && cad_samples.normals[i].cast<double>().dot(eye - q) <= 0.0) continue;  // turned away
     const Eigen::Vector3d p = cad_to_scan * q;
-    const std::ptrdiff_t k = bin_index(bins, p.x(), p.y(), p.z());
+    const std::ptrdiff_t k = range_bin(bins, p);
     if (k < 0) continue;
     const float z = bins.nearest_mm[static_cast<std::size_t>(k)];
     if (!std::isfinite(z)) continue;

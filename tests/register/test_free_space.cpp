@@ -73,5 +73,21 @@ TEST(FreeSpace, NoImageForAScanNotInItsSensorsFrame) {
   EXPECT_EQ(count_in_front(bin_scan_depths(pts), square_at(0.0, 50.0), Pose::Identity(), 10.0).seen, 0u);
 }
 
+TEST(FreeSpace, ALineScannersProfileMakesASmallImage) {
+  // One profile of a line scanner: every ray in the plane y = 0 (the angular box has no area). The image must stay
+  // about as large as the points are many, not one bin per 1e-8 of angle.
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = -5000; i <= 5000; ++i) pts.emplace_back(0.06f * static_cast<float>(i), 0.0f, 650.0f);
+  pts.emplace_back(0.0f, 0.0f, 700.0f);  // one point 50 mm behind another on its ray
+  const RangeBins bins = bin_depths(pts, 4.0);
+  ASSERT_GT(bins.bin, 0.0);
+  EXPECT_LE(static_cast<std::size_t>(bins.width) * static_cast<std::size_t>(bins.height), pts.size());
+  const std::ptrdiff_t k = range_bin(bins, Eigen::Vector3d(0.0, 0.0, 700.0));
+  ASSERT_GE(k, 0);
+  EXPECT_NEAR(bins.nearest_mm[static_cast<std::size_t>(k)], 650.0f, 1e-3f);  // the second-nearest of its bin
+  EXPECT_EQ(range_bin(bins, Eigen::Vector3d(0.0, 0.0, -700.0)), -1);         // behind the sensor
+  EXPECT_EQ(range_bin(bins, Eigen::Vector3d(1000.0, 0.0, 650.0)), -1);       // outside the image
+}
+
 }  // namespace
 }  // namespace ewis

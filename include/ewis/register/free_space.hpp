@@ -7,6 +7,7 @@
 // front of the measured floor. Counted on the scan's own range image (angular bins in the sensor's frame), so it
 // needs no ray casting and no camera model.
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -24,10 +25,19 @@ struct RangeBins {
   std::vector<float> nearest_mm;        // per bin (row-major); +infinity where nothing was measured
 };
 
-// No image (bin 0) when the scan does not look like a sensor's view: under 99 % of its points in front of the
-// origin (z > 0), or its rays spread beyond +-63 deg. `points_per_bin`: the bins are sized so that, were the scan
-// spread evenly over its angular box, each would hold about this many points (a bin must nearly always hold a
-// point of the surface it looks at).
+// The range image of `points` (in the sensor's frame), whatever they look like; points at or behind the sensor's
+// plane (z <= 0) are left out, and no image (bin 0) when under 2 are in front. `points_per_bin`: the bins are sized
+// so that, were the points spread evenly over their angular box, each would hold about this many (a bin must nearly
+// always hold a point of the surface it looks at); no side of the image exceeds that many bins over the points'
+// count, so a degenerate spread (rays in one plane) cannot make it huge.
+RangeBins bin_depths(const std::vector<Eigen::Vector3f>& points, double points_per_bin);
+
+// The bin of a point in the sensor's frame; -1 behind the sensor or outside the image.
+std::ptrdiff_t range_bin(const RangeBins& bins, const Eigen::Vector3d& p);
+
+// The range image of a scan taken as its sensor's view; no image (bin 0) when it does not look like one: under 99 %
+// of its points in front of the origin (z > 0), or its rays spread beyond +-63 deg (the registration's check then
+// does nothing; sensor_origin.hpp says how inspect reports such a scan).
 RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin = 16.0);
 
 struct FreeSpaceCount {
