@@ -23,9 +23,13 @@ double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose&
   const RangeBins bins = bin_depths(seen, points_per_bin);
   std::size_t occluded = points.size() - seen.size();  // behind the sensor's plane
   for (const Eigen::Vector3f& q : seen) {
-    const std::ptrdiff_t k = range_bin(bins, q.cast<double>());
-    if (k >= 0 && static_cast<double>(q.z()) > static_cast<double>(bins.nearest_mm[static_cast<std::size_t>(k)]) + margin_mm)
-      ++occluded;
+    const Eigen::Vector3d p = q.cast<double>();
+    const std::ptrdiff_t k = range_bin(bins, p);
+    if (k < 0) continue;
+    // Behind along the ray: the bins hold depths along z, and a depth along z is the ray's length over
+    // |p| / z (rays near the sensor's plane: a long way along the ray is little along z).
+    const double behind_z = p.z() - static_cast<double>(bins.nearest_mm[static_cast<std::size_t>(k)]);
+    if (behind_z * p.norm() / p.z() > margin_mm) ++occluded;
   }
   return static_cast<double>(occluded) / static_cast<double>(points.size());
 }

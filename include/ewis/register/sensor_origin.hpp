@@ -24,8 +24,8 @@
 namespace ewis {
 
 // Occluded fraction of `points` seen from `sensor_to_scan` (its z axis the viewing direction), on the range image
-// of free_space.hpp (`bin_depths`, about `points_per_bin` a bin; depths along z): points at or behind the sensor's
-// plane count as occluded.
+// of free_space.hpp (`bin_depths`, about `points_per_bin` a bin; a point more than `margin_mm` behind its bin along
+// the ray is occluded); points at or behind the sensor's plane count as occluded.
 double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose& sensor_to_scan,
                          double points_per_bin = 4.0, double margin_mm = 10.0);
 
