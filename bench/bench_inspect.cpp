@@ -6,7 +6,7 @@
 #include <random>
 
 #include "ewis/inspect/bend_radius.hpp"
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 #include "ewis/scene/primitives.hpp"
 
 using namespace ewis;

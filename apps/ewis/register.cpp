@@ -73,6 +73,7 @@ Command add_register(CLI::App& root, CommonOptions& common) {
       const double res_mm = spatial_resolution(tree, 20000).mean_mm;
       CadTargetParams tp;
       tp.spacing_mm = std::clamp(res_mm, 1.0, 5.0);  // ~ the scan resolution, at least 1 mm (paper 4.1.1)
+      tp.exact_surface = true;  // the last step on the exact surface (surface_refine.hpp); tgt outlives the target
       const CadTarget target = build_cad_target(tgt.scene, InspectionPlan{}, tp);
       ScanToCadParams sp;
       sp.icp.use_source_viewpoint = source_is_scan && !opt->no_visibility;

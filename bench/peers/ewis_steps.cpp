@@ -14,7 +14,7 @@
 #include "ewis/filter/outlier_removal.hpp"
 #include "ewis/filter/resolution.hpp"
 #include "ewis/filter/voxel_grid.hpp"
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 #include "ewis/io/cloud_io.hpp"
 #include "ewis/io/plan_file.hpp"
 #include "ewis/io/pose_file.hpp"

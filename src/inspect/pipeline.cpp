@@ -11,7 +11,7 @@
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/run_conflicts.hpp"
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/register/sensor_origin.hpp"
 #include "ewis/core/scratch.hpp"

@@ -7,7 +7,7 @@
 #include <memory>
 #include <utility>
 
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 
 namespace ewis {
 namespace {

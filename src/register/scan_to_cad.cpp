@@ -234,6 +234,18 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   }
   res.valid = have && res.registration.fitness >= params.min_fitness &&
               res.free_space.fraction() <= params.max_in_front_fraction;
+  if (res.valid && params.refine_on_surface && target.surface) {
+    // The last step on the exact surface, on the points the final ICP used (the fitness stays the ICP's).
+    const std::vector<std::uint32_t> keep =
+        points_away_from_cables(scan, res.registration.source_to_target, target, 0.0);
+    SurfaceRefineParams sp = params.surface;
+    const double final_d = std::max(params.icp.final_max_distance_mm, target.spacing_mm + 3.0 * params.icp.noise_mm);
+    sp.max_distance_mm = final_d;
+    sp.kernel_mm = std::max(params.icp.kernel_noise_factor * params.icp.noise_mm, final_d / params.icp.kernel_distance_div);
+    if (keep.size() >= 6)
+      res.registration.source_to_target =
+          refine_on_surface(scan, *target.surface, res.registration.source_to_target, sp, keep).source_to_target;
+  }
   // The count of left-out points is reported for the whole scan (the subsample is an even spread of it).
   res.excluded_near_cables =
       static_cast<std::size_t>(std::llround(static_cast<double>(res.excluded_near_cables) * scan_per_point));

@@ -6,7 +6,7 @@
 
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/inspect/interference.hpp"
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 #include "ewis/scene/primitives.hpp"
 
 using namespace ewis;

@@ -37,7 +37,7 @@
 
 #include "ewis/core/cloud.hpp"
 #include "ewis/core/cylinder.hpp"
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 #include "ewis/scene/scene.hpp"
 #include "ewis/search/kdtree.hpp"
 

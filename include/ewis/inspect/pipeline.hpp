@@ -29,6 +29,7 @@ struct InspectParams {
   CadTargetParams target = [] {
     CadTargetParams t;
     t.sample_up_front = false;
+    t.exact_surface = true;  // the registration's last step on the exact surface
     return t;
   }();
   ScanToCadParams registration;

@@ -15,6 +15,7 @@
 #include "ewis/core/pose.hpp"
 #include "ewis/io/plan_file.hpp"
 #include "ewis/scene/scene.hpp"
+#include "ewis/scene/surface_index.hpp"
 #include "ewis/search/kdtree.hpp"
 
 namespace ewis {
@@ -28,6 +29,9 @@ struct CadTargetParams {
   // looks at (sample_rigid_view), so the whole CAD's samples never sit in memory (issue 8: inspect's peak memory).
   // The target then references the scene, which must outlive it.
   bool sample_up_front = true;
+  // true: the target also indexes the rigid elements' triangles (SurfaceIndex) for the registration's last step on
+  // the exact surface (surface_refine.hpp). The target then references the scene, which must outlive it.
+  bool exact_surface = false;
 };
 
 // Owns the sampled clouds and the cables' k-d tree (it references `cables`: not copyable). The rigid samples
@@ -40,6 +44,7 @@ struct CadTarget {
   std::vector<int> rigid_elements;           // the anchoring elements
   std::size_t max_points = 0;
   std::uint64_t seed = 1;
+  std::unique_ptr<SurfaceIndex> surface;     // the rigid triangles (CadTargetParams::exact_surface), or null
   Cloud cables;                              // cable samples (exclusion zone only)
   std::unique_ptr<KdTree> cable_tree;        // null when the plan has no cable in the scene
   double spacing_mm = 1.0;

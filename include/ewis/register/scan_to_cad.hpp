@@ -8,6 +8,7 @@
 #include "ewis/register/free_space.hpp"
 #include "ewis/register/global_registration.hpp"
 #include "ewis/register/icp.hpp"
+#include "ewis/register/surface_refine.hpp"
 #include "ewis/register/veil_points.hpp"
 
 namespace ewis {
@@ -43,6 +44,10 @@ struct ScanToCadParams {
   double trusted_in_front_fraction = 0.1;
   double max_in_front_fraction = 0.5;
   double in_front_margin_mm = 10.0;
+  // The last step on the CAD's exact surface (surface_refine.hpp), when the target indexes it: the valid result
+  // is refined on the same points its final ICP used. Its distances: the final ICP's.
+  bool refine_on_surface = true;
+  SurfaceRefineParams surface;
   // The scan is in its sensor's frame (CONTRACT: scan.ply), so CAD faces turned away from the sensor are culled.
   ScanToCadParams() {
     icp.expected_error_mm = 60.0;

@@ -1,7 +1,8 @@
 #pragma once
 // Exact closest-point queries on CAD triangles (a bounding-volume hierarchy over a chosen set of elements):
 // the interference check measures gaps to the registered CAD surface of rigid elements (DESIGN.md
-// "Measurement lessons": the sensor never sees the flanks that face each other, so point-based gaps read wide).
+// "Measurement lessons": the sensor never sees the flanks that face each other, so point-based gaps read wide),
+// and the registration's last step matches scan points to it (register/surface_refine.hpp).
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>

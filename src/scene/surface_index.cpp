@@ -1,4 +1,4 @@
-#include "ewis/inspect/surface_index.hpp"
+#include "ewis/scene/surface_index.hpp"
 
 #include <algorithm>
 #include <cmath>
