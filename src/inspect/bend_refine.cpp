@@ -157,6 +157,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   struct Outcome {
     bool ok = false;
     FilletFit fit;
+    bool bound = false;  // the radius is the loosest the data allow (fit.model.bend_radius_mm holds it)
   };
   std::vector<Outcome> outcomes(cands.size());
   parallel_for_each_index(cands.size(), [&](std::size_t k) {
@@ -209,38 +210,74 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         pts.swap(again);
       }
     }
-    const FilletFit& f = o.fit;
+    FilletFit& f = o.fit;
+    // The shape of a bend (a fit that did not converge may still bound the radius: see below).
+    const bool shaped = std::isfinite(f.model.bend_radius_mm) && std::isfinite(f.bend_radius_se_mm) &&
+                        f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg &&
+                        std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
+                        (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
+                        f.model.bend_radius_mm <= 100.0 * diameter_mm;
+    if (!shaped) return;
     // A precise fit is taken as it is; a looser one (a short arc of a thin cable holds few points) only where it
     // shows the circle windows reading high by more than two of its standard errors (they cut short corners).
+    // Tighter than the tube's radius the inside would fold into itself: such a fit (a short kink, whose radius
+    // the data hardly constrain) is never taken as it is.
     const double se = f.bend_radius_se_mm, R = f.model.bend_radius_mm;
-    bool precise_enough = se <= params.max_se_fraction * R;
-    if (!precise_enough && f.ok && se <= params.max_se_fraction_vs_circle * R && p.radius_mm - R > 2.0 * se) {
-      // The competing hypothesis: the same model held at the circle windows' radius. The data must prefer
-      // the fit's radius clearly (a wrong local minimum of a thin cable's fit does not).
-      FilletFitParams held = params.fit;
-      held.fit_bend_radius = false;
-      FilletModel start = f.model;
-      start.bend_radius_mm = std::clamp(p.radius_mm, f.model.tube_radius_mm, 100.0 * diameter_mm);
-      const FilletFit alt = fit_fillet(pts, start, held);
-      const double c = params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
-      const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
-      const double lr = 2.0 * (fillet_robust_cost(pts, alt.model, c) - fillet_robust_cost(pts, f.model, c)) / sigma2;
-      precise_enough = lr >= params.min_log_likelihood_ratio;
-      if (precise_enough) {
-        // ... and the data must pin the radius down on the loose side too: held at twice the fit's radius the
-        // model must fit clearly worse. A corner fitted into a gently curving stretch (the circle windows there
-        // reading high) is preferred to the circle's radius, but not to twice its own.
-        start.bend_radius_mm = 2.0 * f.model.bend_radius_mm;
-        const FilletFit doubled = fit_fillet(pts, start, held);
-        const double lr2 = 2.0 * (fillet_robust_cost(pts, doubled.model, c) - fillet_robust_cost(pts, f.model, c)) / sigma2;
-        precise_enough = lr2 >= params.min_log_likelihood_ratio_doubled;
-      }
+    const bool physical = R >= f.model.tube_radius_mm;
+    if (f.ok && physical && se <= params.max_se_fraction * R) {
+      o.ok = true;
+      return;
     }
-    o.ok = f.ok && f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg && precise_enough &&
-           std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
-           (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
-           f.model.bend_radius_mm <= 100.0 * diameter_mm &&
-           f.model.bend_radius_mm >= f.model.tube_radius_mm;  // tighter, the inside would fold into itself
+    if (!(p.radius_mm - R > 2.0 * se)) return;
+    // The competing hypothesis: the same model held at the circle windows' radius. The data must prefer
+    // the fit's radius clearly (a wrong local minimum of a thin cable's fit does not).
+    FilletFitParams held = params.fit;
+    held.fit_bend_radius = false;
+    const double c = params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
+    const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
+    const double best_cost = fillet_robust_cost(pts, f.model, c);
+    // 2 x the robust cost's rise over the free fit's, held at radius r: a likelihood ratio (chi-square, 1 dof).
+    auto ratio_at = [&](double r) {
+      FilletModel start = f.model;
+      start.bend_radius_mm = r;
+      return 2.0 * (fillet_robust_cost(pts, fit_fillet(pts, start, held).model, c) - best_cost) / sigma2;
+    };
+    const double circle_r = std::clamp(p.radius_mm, f.model.tube_radius_mm, 100.0 * diameter_mm);
+    if (ratio_at(circle_r) < params.min_log_likelihood_ratio) return;
+    // ... and the data must pin the radius down on the loose side too: held at twice the fit's radius the
+    // model must fit clearly worse. A corner fitted into a gently curving stretch (the circle windows there
+    // reading high) is preferred to the circle's radius, but not to twice its own.
+    const double low = std::max(R, f.model.tube_radius_mm);
+    if (f.ok && physical && se <= params.max_se_fraction_vs_circle * R &&
+        ratio_at(2.0 * R) >= params.min_log_likelihood_ratio_doubled) {
+      o.ok = true;
+      return;
+    }
+    // Not pinned (or tighter than the tube): the bend is then reported at the loosest radius the data still allow,
+    // where the likelihood ratio reaches bound_log_likelihood_ratio (between the fit's radius and the circle
+    // windows', which the data reject): an upper bound. A short kink is tighter than that, and a check against a
+    // limit above it fails; a corner fitted into a gentle curve reads no tighter than its data say. A fit that did
+    // not converge (a kink's radius drifting towards zero, where the data hardly change) bounds it too: its cost is
+    // above the true minimum, so every ratio reads low and the bound lies looser still.
+    // A kink turns as the centreline does across the window: a fit turning otherwise has its legs on something
+    // else (a run's end at a connector: 62 and 80 deg fitted where the centreline turns 6-7 deg, on two campaign
+    // scenes), and is no bend. The tightest physical radius must stay allowed too: a fit that rejects even the
+    // tube's radius is the wrong model there.
+    const double turn_deg = f.model.turn_rad() * 180.0 / M_PI, centreline_turn_deg = init.turn_rad() * 180.0 / M_PI;
+    if (std::abs(turn_deg - centreline_turn_deg) >
+        std::max(params.bound_turn_tolerance_deg, params.bound_turn_tolerance * centreline_turn_deg))
+      return;
+    if (!physical && ratio_at(low) >= params.bound_log_likelihood_ratio) return;
+    double lo = low, hi = circle_r;
+    for (int it = 0; it < params.bound_iterations && hi > lo * (1.0 + 1e-3); ++it) {
+      const double mid = std::sqrt(lo * hi);
+      (ratio_at(mid) >= params.bound_log_likelihood_ratio ? hi : lo) = mid;
+    }
+    f.model.bend_radius_mm = hi;
+    // Its standard error: the distance to the free fit over the bound's number of standard errors.
+    f.bend_radius_se_mm = (hi - std::min(R, hi)) / std::sqrt(params.bound_log_likelihood_ratio);
+    o.bound = true;
+    o.ok = true;
   }, 1);
 
   // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on radius + 2 se.
@@ -249,12 +286,15 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   std::optional<double> best_radius;
   double best_se = 0.0;
   Eigen::Vector3d best_location = Eigen::Vector3d::Zero();
+  bool best_bound = false;
   for (std::size_t k = 0; k < cands.size(); ++k) {
     const BendSample& p = bend.profile[cands[k].profile];
     double r = p.radius_mm, se = p.radius_se_mm;
     Eigen::Vector3d where = p.point;
+    bool bound = false;
     if (outcomes[k].ok) {
       ++refined;
+      bound = outcomes[k].bound;
       const FilletModel& m = outcomes[k].fit.model;
       r = m.bend_radius_mm;
       se = outcomes[k].fit.bend_radius_se_mm;
@@ -267,12 +307,14 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       best_radius = r;
       best_se = se;
       best_location = where;
+      best_bound = bound;
     }
   }
   if (refined > 0 && best_radius) {
     bend.min_radius_mm = best_radius;
     bend.min_radius_se_mm = best_se;
     bend.location = best_location;
+    bend.min_radius_is_bound = best_bound;
   }
   return refined;
 }

@@ -68,6 +68,9 @@ void write_cable(std::ostringstream& o, const CableInspection& c) {
   o << in << "\"min_bend_radius_mm\": " << opt_num(c.min_bend_radius_mm, 2) << ",\n";
   o << in << "\"min_bend_radius_se_mm\": "
     << (c.min_bend_radius_mm ? num(c.bend.min_radius_se_mm, 2) : "null") << ",\n";
+  // true: min_bend_radius_mm is an upper bound (a kink too short for its radius to be measured; bend_radius.hpp)
+  o << in << "\"min_bend_radius_is_bound\": " << (c.min_bend_radius_mm && c.bend.min_radius_is_bound ? "true" : "false")
+    << ",\n";
   o << in << "\"min_bend_radius_inner_mm\": " << opt_num(c.min_bend_radius_inner_mm, 2) << ",\n";
   o << in << "\"min_bend_location\": " << (c.min_bend_location ? vec(*c.min_bend_location, 2) : "null") << ",\n";
   o << in << "\"paper_bend_radius_mm\": " << opt_num(c.found ? c.paper_bend.radius_mm : std::nullopt, 2) << ",\n";

@@ -161,6 +161,8 @@ SceneEvaluation compare_with_truth(const std::string& report_json, const std::st
     if (const json* cable = report_cable(*elements, b.cable)) {
       b.measured_mm = opt_number(*cable, "min_bend_radius_mm");
       b.measured_se_mm = opt_number(*cable, "min_bend_radius_se_mm");
+      const auto bound = cable->find("min_bend_radius_is_bound");
+      b.measured_is_bound = bound != cable->end() && bound->is_boolean() && bound->get<bool>();
     }
     if (b.measured_mm) b.error_pct = (*b.measured_mm - b.truth_mm) / b.truth_mm * 100.0;
     s.bends.push_back(std::move(b));

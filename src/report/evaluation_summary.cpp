@@ -194,7 +194,8 @@ std::string evaluation_to_json(const EvaluationSummary& s, const std::vector<Sce
     ojson bs = ojson::array();
     for (const BendCheck& b : e.bends)
       bs.push_back({{"cable", b.cable}, {"truth_mm", round4(b.truth_mm)}, {"measured_mm", opt_json(b.measured_mm)},
-                    {"error_pct", opt_json(b.error_pct)}, {"measured_se_mm", opt_json(b.measured_se_mm)}});
+                    {"error_pct", opt_json(b.error_pct)}, {"measured_se_mm", opt_json(b.measured_se_mm)},
+                    {"measured_is_bound", b.measured_is_bound}});
     j["bends"] = bs;
     j["registration_rotation_deg"] = opt_json(e.registration_rotation_deg);
     j["registration_error_mm"] = opt_json(e.registration_error_mm);

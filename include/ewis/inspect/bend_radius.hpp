@@ -55,6 +55,8 @@ struct BendRadiusResult {
   // Smallest radius of curvature of the centreline (mm); nullopt when the cable is straight everywhere.
   std::optional<double> min_radius_mm;
   double min_radius_se_mm = 0.0;                               // its standard error (from the fit's covariance)
+  bool min_radius_is_bound = false;  // the minimum is an upper bound: a kink too short for its radius to be measured,
+                                     // at the loosest radius its surface points allow (bend_refine, fillet_fit.hpp)
   std::optional<Eigen::Vector3d> location;                     // where (middle of the minimum's window)
   double location_arc_mm = 0.0;
   Eigen::Vector3d circle_center = Eigen::Vector3d::Zero();     // the minimum's fitted circle (for pictures)

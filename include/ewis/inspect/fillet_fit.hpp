@@ -86,6 +86,18 @@ struct FilletRefineParams {
   // ... and the same model held at twice the fit's radius fits worse by at least this ratio (the radius is
   // bounded on the loose side too; 25: five standard errors)
   double min_log_likelihood_ratio_doubled = 25.0;
+  // A fit the data prefer to the circle windows' radius but do not pin down (or tighter than the tube: a short kink)
+  // is reported at the loosest radius the data allow: where the ratio reaches bound_log_likelihood_ratio (9: a
+  // 3-sigma bound; the true radius lies above it about once in 740 on a right model), found by bound_iterations
+  // bisection steps (on a log scale) between the fit's radius and the circle windows'. An upper bound answers the
+  // check "at least the allowed radius" for a kink whose radius no fit pins down: campaign scene_031's 12 deg kink of
+  // 15.1 mm on a 13.2 mm cable (limit 66 mm) reads at most 36.4 mm, where the circle windows read 139 mm.
+  double bound_log_likelihood_ratio = 9.0;
+  int bound_iterations = 10;
+  // ... and only when the fit turns as the centreline does across the window (the legs' lines fitted to its outer
+  // thirds), within this many degrees or this fraction of that turn (real kinks: within 0.05 deg)
+  double bound_turn_tolerance_deg = 3.0;
+  double bound_turn_tolerance = 0.25;
   double tube_radius_tolerance = 0.25;  // the fitted tube radius within this fraction of the measured one
   // The cable's point set S comes from a chain of straight cylinders, which cuts a tight bend's corner and so
   // leaves out the outer surface at its apex: the very points that carry the radius. With the scan given, the

@@ -41,6 +41,7 @@ struct BendCheck {
   std::optional<double> measured_mm;                     // nullopt: the report has no radius (or no cable)
   std::optional<double> error_pct;                       // signed: (measured - truth) / truth x 100
   std::optional<double> measured_se_mm;                  // the report's min_bend_radius_se_mm, when given
+  bool measured_is_bound = false;                        // the report's min_bend_radius_is_bound (an upper bound)
 };
 
 enum class VerdictOutcome { Correct, FalseAlarm, Missed, NotRun };
