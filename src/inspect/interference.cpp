@@ -91,12 +91,21 @@ bool is_own_untraced_stretch(const Cloud& cloud, const std::vector<std::uint32_t
   fp.use_sensor = params.has_sensor;
   fp.sensor = params.sensor_position;
   fp.max_radius_mm = 3.0 * r;
+  auto own = [&](const CylinderFitResult& f) {
+    if (!f.ok || std::abs(f.radius_mm / r - 1.0) > params.own_stretch_radius_tolerance) return false;
+    if (double(f.inliers) < params.own_stretch_min_inliers * double(xs.size())) return false;
+    if (std::abs(f.axis.dot(dir)) < std::cos(params.own_stretch_max_angle_deg * M_PI / 180.0)) return false;
+    // its axis within a radius of the bridge's course
+    return distance_to_chain(chain, f.point).distance_mm <= r;
+  };
   const CylinderFitResult f = fit_cylinder(xs, foot, dir, r, fp);
-  if (!f.ok || std::abs(f.radius_mm / r - 1.0) > params.own_stretch_radius_tolerance) return false;
-  if (double(f.inliers) < params.own_stretch_min_inliers * double(xs.size())) return false;
-  if (std::abs(f.axis.dot(dir)) < std::cos(params.own_stretch_max_angle_deg * M_PI / 180.0)) return false;
-  // its axis within a radius of the bridge's course
-  return distance_to_chain(chain, f.point).distance_mm <= r;
+  if (own(f)) return true;
+  // A sliver of the surface (the part beyond the band: a narrow arc) leaves the radius loose: its own surface then
+  // fits a tube of the cable's radius as closely as any tube.
+  CylinderFitParams fixed = fp;
+  fixed.fix_radius = true;
+  const CylinderFitResult g = fit_cylinder(xs, foot, dir, r, fixed);
+  return f.ok && g.ok && g.rms_mm <= params.own_stretch_fixed_rms_factor * f.rms_mm && own(g);
 }
 
 }  // namespace

@@ -108,6 +108,9 @@ struct InterferenceParams {
   double own_stretch_radius_tolerance = 0.25;
   double own_stretch_min_inliers = 0.6;
   double own_stretch_max_angle_deg = 25.0;
+  // ... or, when the free fit's radius is off (a sliver of the surface: the part beyond the band), a tube of the
+  // cable's radius fits it with an RMS within this factor of the free fit's
+  double own_stretch_fixed_rms_factor = 1.25;
 };
 
 struct Interference {
