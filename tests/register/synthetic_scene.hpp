@@ -126,4 +126,19 @@ inline Pose perturbation(std::uint64_t seed, double max_deg, double max_mm) {
   return make_pose(axis, max_deg * u(rng), dir * max_mm * u(rng));
 }
 
+// Error of an estimated scan_to_cad pose, measured at the scene's centre (as the registration goals measure it).
+struct PoseError {
+  double deg, mm;
+};
+inline PoseError pose_error(const Pose& est, const Pose& truth) {
+  const Eigen::Vector3d c(200, 150, 20);
+  return {rotation_error_deg(est, truth), ((est * truth.inverse()) * c - c).norm()};
+}
+
+// `truth` perturbed by perturbation(seed, deg, mm) about the scene's centre.
+inline Pose off_at_scene(const Pose& truth, std::uint64_t seed, double deg, double mm) {
+  const Eigen::Vector3d c(200, 150, 20);
+  return Eigen::Translation3d(c) * perturbation(seed, deg, mm) * Eigen::Translation3d(-c) * truth;
+}
+
 }  // namespace ewis::test

@@ -12,21 +12,9 @@ namespace {
 
 using test::make_scene;
 
-// Error of an estimated scan_to_cad pose, measured at the scene (as the accuracy goals).
-struct PoseError {
-  double deg, mm;
-};
-PoseError pose_error(const Pose& est, const Pose& truth) {
-  const Eigen::Vector3d c(200, 150, 20);
-  const Pose d = est * truth.inverse();
-  return {rotation_error_deg(est, truth), (d * c - c).norm()};
-}
-
-Pose off_at_scene(const Pose& truth, std::uint64_t seed, double deg, double mm) {
-  const Eigen::Vector3d c(200, 150, 20);
-  const Pose p = test::perturbation(seed, deg, mm);
-  return Eigen::Translation3d(c) * p * Eigen::Translation3d(-c) * truth;
-}
+using test::off_at_scene;
+using test::pose_error;
+using test::PoseError;
 
 struct Fixture {
   Scene scene = make_scene();

@@ -11,18 +11,9 @@
 namespace ewis {
 namespace {
 
-struct PoseError {
-  double deg, mm;
-};
-PoseError pose_error(const Pose& est, const Pose& truth) {
-  const Eigen::Vector3d c(200, 150, 20);  // errors measured at the scene (the accuracy goals)
-  return {rotation_error_deg(est, truth), ((est * truth.inverse()) * c - c).norm()};
-}
-
-Pose off_at_scene(const Pose& truth, std::uint64_t seed, double deg, double mm) {
-  const Eigen::Vector3d c(200, 150, 20);
-  return Eigen::Translation3d(c) * test::perturbation(seed, deg, mm) * Eigen::Translation3d(-c) * truth;
-}
+using test::off_at_scene;
+using test::pose_error;
+using test::PoseError;
 
 CadTargetParams target_params() {
   CadTargetParams p;

@@ -8,20 +8,9 @@
 namespace ewis {
 namespace {
 
-// Error of a scan_to_cad pose at the scene's centre (as the registration goals measure it).
-struct PoseError {
-  double deg, mm;
-};
-PoseError pose_error(const Pose& est, const Pose& truth) {
-  const Eigen::Vector3d c(200, 150, 20);
-  const Pose d = est * truth.inverse();
-  return {rotation_error_deg(est, truth), (d * c - c).norm()};
-}
-
-Pose off_at_scene(const Pose& truth, std::uint64_t seed, double deg, double mm) {
-  const Eigen::Vector3d c(200, 150, 20);
-  return Eigen::Translation3d(c) * test::perturbation(seed, deg, mm) * Eigen::Translation3d(-c) * truth;
-}
+using test::off_at_scene;
+using test::pose_error;
+using test::PoseError;
 
 std::vector<int> rigid_elements(const Scene& s) {
   std::vector<int> r;
