@@ -247,7 +247,6 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // ... and the data must pin the radius down on the loose side too: held at twice the fit's radius the
     // model must fit clearly worse. A corner fitted into a gently curving stretch (the circle windows there
     // reading high) is preferred to the circle's radius, but not to twice its own.
-    const double low = std::max(R, f.model.tube_radius_mm);
     if (f.ok && physical && se <= params.max_se_fraction_vs_circle * R &&
         ratio_at(2.0 * R) >= params.min_log_likelihood_ratio_doubled) {
       o.ok = true;
@@ -267,6 +266,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     if (std::abs(turn_deg - centreline_turn_deg) >
         std::max(params.bound_turn_tolerance_deg, params.bound_turn_tolerance * centreline_turn_deg))
       return;
+    const double low = std::max(R, f.model.tube_radius_mm);
     if (!physical && ratio_at(low) >= params.bound_log_likelihood_ratio) return;
     double lo = low, hi = circle_r;
     for (int it = 0; it < params.bound_iterations && hi > lo * (1.0 + 1e-3); ++it) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
@@ -100,10 +101,12 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   // paper 4.1.2: registration on the rigid elements (cables move).
   report("register", 0.0);
   ScanToCadResult reg;
+  std::shared_ptr<const SurfaceIndex> rigid_index;  // the rigid triangles, from the target when it indexed them
   if (params.register_scan || !initial_scan_to_cad) {
     const CadTarget target = build_cad_target(scene, plan, params.target);
     reg = register_scan_to_cad(filtered, target, initial_scan_to_cad, params.registration,
                                [&](std::string_view, double f) { report("register", f); });
+    rigid_index = target.surface;
   } else {
     reg.registration.source_to_target = *initial_scan_to_cad;
     reg.registration.converged = true;
@@ -151,7 +154,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   std::vector<int> rigid_elements;
   for (std::size_t i = 0; i < scene.elements.size(); ++i)
     if (!is_cable[i]) rigid_elements.push_back(int(i));
-  const SurfaceIndex rigid_surfaces(scene, rigid_elements);
+  // The registration's index when it built one (the same elements: everything the plan does not call a cable).
+  if (!rigid_index) rigid_index = std::make_shared<const SurfaceIndex>(scene, rigid_elements);
+  const SurfaceIndex& rigid_surfaces = *rigid_index;
 
   // Points on a rigid CAD surface are never cable points (paper 4.2.1: the trace must not climb onto a
   // bracket or run along a plate).

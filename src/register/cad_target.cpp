@@ -39,7 +39,7 @@ CadTarget build_cad_target(const Scene& scene, const InspectionPlan& plan, const
   } else {
     t.scene = &scene;
   }
-  if (params.exact_surface) t.surface = std::make_unique<SurfaceIndex>(scene, rigid);
+  if (params.exact_surface) t.surface = std::make_shared<const SurfaceIndex>(scene, rigid);
   if (!cables.empty()) {
     sp.elements = cables;
     sp.seed = params.seed + 1;

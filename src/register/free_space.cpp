@@ -15,26 +15,37 @@ std::ptrdiff_t range_bin(const RangeBins& b, const Eigen::Vector3d& p) {
   return static_cast<std::ptrdiff_t>(v) * b.width + static_cast<std::ptrdiff_t>(u);
 }
 
-RangeBins bin_depths(const std::vector<Eigen::Vector3f>& points, double points_per_bin) {
-  RangeBins b;
+namespace {
+
+// The angular box (u = x / z, v = y / z) of the points in front of the sensor, and their count.
+struct RayBox {
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
   std::size_t n = 0;
+};
+
+RayBox ray_box(const std::vector<Eigen::Vector3f>& points) {
+  RayBox box;
   for (const Eigen::Vector3f& p : points) {
     if (!(p.z() > 0.0f)) continue;
     const Eigen::Vector3d q = p.cast<double>();  // as range_bin divides
     const Eigen::Vector2d uv(q.x() / q.z(), q.y() / q.z());
     if (!uv.allFinite()) continue;
-    lo = lo.cwiseMin(uv);
-    hi = hi.cwiseMax(uv);
-    ++n;
+    box.lo = box.lo.cwiseMin(uv);
+    box.hi = box.hi.cwiseMax(uv);
+    ++box.n;
   }
-  if (n < 2) return b;
-  const double per_bin = std::max(1.0, points_per_bin), count = static_cast<double>(n);
-  const Eigen::Vector2d extent = hi - lo;
+  return box;
+}
+
+RangeBins bin_in_box(const std::vector<Eigen::Vector3f>& points, const RayBox& box, double points_per_bin) {
+  RangeBins b;
+  if (box.n < 2) return b;
+  const double per_bin = std::max(1.0, points_per_bin), count = static_cast<double>(box.n);
+  const Eigen::Vector2d extent = box.hi - box.lo;
   // Sized from the box's area; at least the longer side over (count / per_bin) bins (rays in one plane: a box of
   // no area), and never zero.
   b.bin = std::max({std::sqrt(extent.prod() / count * per_bin), extent.maxCoeff() * per_bin / count, 1e-9});
-  b.lo = lo;
+  b.lo = box.lo;
   b.width = static_cast<int>(std::ceil(extent.x() / b.bin)) + 1;
   b.height = static_cast<int>(std::ceil(extent.y() / b.bin)) + 1;
   const std::size_t cells = static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height);
@@ -58,19 +69,20 @@ RangeBins bin_depths(const std::vector<Eigen::Vector3f>& points, double points_p
   return b;
 }
 
+}  // namespace
+
+RangeBins bin_depths(const std::vector<Eigen::Vector3f>& points, double points_per_bin) {
+  return bin_in_box(points, ray_box(points), points_per_bin);
+}
+
 RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double points_per_bin) {
-  std::size_t in_front = 0;
-  double reach = 0.0;  // the largest |x / z|, |y / z| of the points in front
-  for (const Eigen::Vector3f& p : scan) {
-    if (!(p.z() > 0.0f)) continue;
-    ++in_front;
-    reach = std::max({reach, std::abs(double{p.x()} / p.z()), std::abs(double{p.y()} / p.z())});
-  }
+  const RayBox box = ray_box(scan);
   // Not a sensor's view (a scan in another frame: points behind the origin, or spread over more than +-63 deg):
   // no image, no check.
-  if (in_front < 16 || static_cast<double>(in_front) < 0.99 * static_cast<double>(scan.size()) || reach > 2.0)
+  if (box.n < 16 || static_cast<double>(box.n) < 0.99 * static_cast<double>(scan.size()) ||
+      box.lo.minCoeff() < -2.0 || box.hi.maxCoeff() > 2.0)
     return RangeBins{};
-  return bin_depths(scan, points_per_bin);
+  return bin_in_box(scan, box, points_per_bin);
 }
 
 FreeSpaceCount count_in_front(const RangeBins& bins, const Cloud& cad_samples, const Pose& scan_to_cad,

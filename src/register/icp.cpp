@@ -78,6 +78,10 @@ void check_inputs(const std::vector<Eigen::Vector3f>& source, const Cloud& targe
 
 }  // namespace
 
+double icp_kernel_scale_mm(const IcpParams& params, double max_distance_mm) {
+  return std::max(params.kernel_noise_factor * params.noise_mm, max_distance_mm / params.kernel_distance_div);
+}
+
 RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& source, const Cloud& target,
                                          const KdTree& target_tree, const Pose& source_to_target,
                                          double inlier_distance_mm,
@@ -137,7 +141,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
     const double d = schedule[s];
     const bool is_coarse = d > (params.coarse_distance_mm > 0 ? params.coarse_distance_mm : 4.0 * final_d);
     const std::vector<std::uint32_t>& idx = is_coarse ? coarse : all;
-    const double c = std::max(params.kernel_noise_factor * params.noise_mm, d / params.kernel_distance_div);
+    const double c = icp_kernel_scale_mm(params, d);
     const double max_sq = d * d;
     corr.assign(idx.size(), Corr{});
     stage_converged = false;

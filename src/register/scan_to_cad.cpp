@@ -82,12 +82,16 @@ Eigen::AlignedBox3d cad_box(const CadTarget& target) {
   return box;
 }
 
+// The final correspondence distance: ~1 mm, but never below what the sampling spacing and the noise need.
+double final_distance_mm(const IcpParams& icp, const CadTarget& target) {
+  return std::max(icp.final_max_distance_mm, target.spacing_mm + 3.0 * icp.noise_mm);
+}
+
 Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
            double expected_error_mm, const ScanToCadParams& params, const ProgressFn& progress,
            const RangeBins* bins) {
   IcpParams icp = params.icp;
-  // Final distance: ~1 mm, but never below what the sampling spacing and the noise need.
-  const double final_d = std::max(icp.final_max_distance_mm, target.spacing_mm + 3.0 * icp.noise_mm);
+  const double final_d = final_distance_mm(icp, target);
   icp.final_max_distance_mm = final_d;
   icp.expected_error_mm = expected_error_mm;
   const bool cull = icp.use_source_viewpoint;
@@ -239,9 +243,8 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
     const std::vector<std::uint32_t> keep =
         points_away_from_cables(scan, res.registration.source_to_target, target, 0.0);
     SurfaceRefineParams sp = params.surface;
-    const double final_d = std::max(params.icp.final_max_distance_mm, target.spacing_mm + 3.0 * params.icp.noise_mm);
-    sp.max_distance_mm = final_d;
-    sp.kernel_mm = std::max(params.icp.kernel_noise_factor * params.icp.noise_mm, final_d / params.icp.kernel_distance_div);
+    sp.max_distance_mm = final_distance_mm(params.icp, target);
+    sp.kernel_mm = icp_kernel_scale_mm(params.icp, sp.max_distance_mm);
     if (keep.size() >= 6)
       res.registration.source_to_target =
           refine_on_surface(scan, *target.surface, res.registration.source_to_target, sp, keep).source_to_target;

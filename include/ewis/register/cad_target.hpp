@@ -44,7 +44,9 @@ struct CadTarget {
   std::vector<int> rigid_elements;           // the anchoring elements
   std::size_t max_points = 0;
   std::uint64_t seed = 1;
-  std::unique_ptr<SurfaceIndex> surface;     // the rigid triangles (CadTargetParams::exact_surface), or null
+  // the rigid triangles (CadTargetParams::exact_surface), or null; shared: inspect keeps it for its rigid labels and
+  // gaps after the target is gone
+  std::shared_ptr<const SurfaceIndex> surface;
   Cloud cables;                              // cable samples (exclusion zone only)
   std::unique_ptr<KdTree> cable_tree;        // null when the plan has no cable in the scene
   double spacing_mm = 1.0;

@@ -49,6 +49,9 @@ struct IcpParams {
   Eigen::Vector3d source_viewpoint = Eigen::Vector3d::Zero();
 };
 
+// The Cauchy kernel's scale (mm) of a stage whose correspondences reach `max_distance_mm` (see IcpParams).
+double icp_kernel_scale_mm(const IcpParams& params, double max_distance_mm);
+
 // Result of a registration (local or global). pose maps the source into the target frame.
 struct RegistrationResult {
   Pose source_to_target = Pose::Identity();
