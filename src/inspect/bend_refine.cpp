@@ -158,6 +158,10 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bool ok = false;
     FilletFit fit;
     bool bound = false;  // the radius is the loosest the data allow (fit.model.bend_radius_mm holds it)
+    bool has_init = false;
+    FilletModel init;    // the fillet's start (the legs from the centreline)
+    bool smooth = false; // the smooth tube's radius replaces the fillet's (see FilletRefineParams::smooth)
+    SmoothTubeFit smooth_fit;
   };
   std::vector<Outcome> outcomes(cands.size());
   parallel_for_each_index(cands.size(), [&](std::size_t k) {
@@ -183,6 +187,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     if (!init.leg1.allFinite() || !init.leg2.allFinite() || init.turn_rad() < 1e-3) return;
     init.bend_radius_mm = std::clamp(p.radius_mm, 0.5 * diameter_mm, 50.0 * diameter_mm);
     init.tube_radius_mm = tube_radius_mm;
+    outcomes[k].init = init;
+    outcomes[k].has_init = true;
     // The window's surface points: those whose nearest centreline sample lies inside it.
     std::vector<Eigen::Vector3d> pts;
     for (std::size_t i = 0; i < surface_points.size(); ++i)
@@ -280,6 +286,85 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     o.ok = true;
   }, 1);
 
+  // A smooth tube over the candidate (see FilletRefineParams::smooth), against the fillet on the same points.
+  const auto smooth_candidate = [&](const BendSample& p, Outcome& o) {
+    double rc = p.radius_mm;
+    if (o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm)) rc = std::min(rc, o.fit.model.bend_radius_mm);
+    const double h = std::clamp(params.smooth_window_radius_fraction * rc,
+                                params.smooth_min_half_window_diameters * diameter_mm,
+                                params.smooth_max_half_window_diameters * diameter_mm);
+    double centre_s = p.arc_mm;
+    SmoothTubeFit sf;
+    std::vector<Eigen::Vector3d> pts;
+    for (int pass = 0; pass < 2; ++pass) {
+      const double s0 = std::max(0.0, centre_s - h), s1 = std::min(total, centre_s + h);
+      if (s1 - s0 < h) return;  // at a run's end: no room for the window
+      std::vector<Eigen::Vector3d> window;
+      for (std::size_t i = 0; i < centerline.size(); ++i)
+        if (arc[i] > s0 && arc[i] < s1) window.push_back(centerline[i]);
+      pts.clear();
+      for (std::size_t i = 0; i < surface_points.size(); ++i)
+        if (point_arc[i] >= s0 - diameter_mm && point_arc[i] <= s1 + diameter_mm) pts.push_back(surface_points[i]);
+      sf = fit_smooth_tube(pts, window, at_arc(centerline, arc, s0), at_arc(centerline, arc, s1), tube_radius_mm,
+                           params.smooth_fit);
+      if (!sf.ok) return;
+      if (params.regather && scan.cloud && scan.tree) {
+        // Again on the scan points around the first fit's surface (a tight bend's outer side included).
+        const SmoothTubeModel& m1 = sf.model;
+        const double band = params.regather_band_mm > 0 ? params.regather_band_mm
+                                                        : std::max({3.0 * sf.sigma_mm, 0.25 * tube_radius_mm, 0.5});
+        const double reach = std::hypot(m1.half_chord_mm, h) + m1.tube_radius_mm + band;
+        std::vector<Neighbor> nb;
+        scan.tree->radius(m1.origin.cast<float>(), float(reach), nb);
+        std::vector<Eigen::Vector3d> again;
+        for (const Neighbor& q : nb) {
+          if (scan.usable && q.index < scan.usable->size() && !(*scan.usable)[q.index]) continue;
+          const Eigen::Vector3d x = scan.cloud->points[q.index].cast<double>();
+          if (std::abs(smooth_tube_centreline_distance(m1, x) - m1.tube_radius_mm) <= band) again.push_back(x);
+        }
+        const SmoothTubeFit second = fit_smooth_tube_from(again, m1, params.smooth_fit);
+        if (second.ok) {
+          sf = second;
+          pts.swap(again);
+        }
+      }
+      // A peak near the window's edge: once more, centred on it.
+      if (pass == 0 && std::abs(sf.peak_tau) > 0.8 * params.smooth_fit.peak_fraction) {
+        const Neighbor nb = cl_tree.nearest(sf.peak_point.cast<float>());
+        if (nb.index == UINT32_MAX) break;
+        centre_s = arc[nb.index];
+        continue;
+      }
+      break;
+    }
+    const double R = sf.bend_radius_mm, se = sf.bend_radius_se_mm;
+    if (!(R <= 100.0 * diameter_mm) || !(R >= sf.model.tube_radius_mm) || !(se <= params.max_se_fraction * R) ||
+        std::abs(sf.model.tube_radius_mm - tube_radius_mm) > params.smooth_tube_radius_tolerance * tube_radius_mm)
+      return;
+    // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
+    if (!o.has_init) return;
+    std::vector<Eigen::Vector3d> over;
+    for (const Eigen::Vector3d& x : pts) {
+      const double tau = sf.model.u.dot(x - sf.model.origin) / sf.model.half_chord_mm;
+      if (tau >= -1.0 && tau <= 1.0) over.push_back(x);
+    }
+    const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
+                               o.fit.model.tube_radius_mm > 0;
+    const FilletFit rival = fit_fillet(over, fillet_shaped ? o.fit.model : o.init, params.fit);
+    const double c = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
+    const double sigma2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
+    const double ratio =
+        2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_tube_robust_cost(over, sf.model, c)) / sigma2;
+    if (!(ratio >= params.smooth_min_log_likelihood_ratio)) return;
+    o.smooth = true;
+    o.smooth_fit = sf;
+  };
+  if (params.smooth) {
+    parallel_for_each_index(cands.size(), [&](std::size_t k) {
+      smooth_candidate(bend.profile[cands[k].profile], outcomes[k]);
+    }, 1);
+  }
+
   // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on radius + 2 se.
   int refined = 0;
   double best_score = std::numeric_limits<double>::infinity();
@@ -287,14 +372,23 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   double best_se = 0.0;
   Eigen::Vector3d best_location = Eigen::Vector3d::Zero();
   bool best_bound = false;
+  const char* best_model = "circle";
   for (std::size_t k = 0; k < cands.size(); ++k) {
     const BendSample& p = bend.profile[cands[k].profile];
     double r = p.radius_mm, se = p.radius_se_mm;
     Eigen::Vector3d where = p.point;
     bool bound = false;
-    if (outcomes[k].ok) {
+    const char* model = "circle";
+    if (outcomes[k].smooth) {
+      model = "smooth";
+      ++refined;
+      r = outcomes[k].smooth_fit.bend_radius_mm;
+      se = outcomes[k].smooth_fit.bend_radius_se_mm;
+      where = outcomes[k].smooth_fit.peak_point;
+    } else if (outcomes[k].ok) {
       ++refined;
       bound = outcomes[k].bound;
+      model = bound ? "bound" : "fillet";
       const FilletModel& m = outcomes[k].fit.model;
       r = m.bend_radius_mm;
       se = outcomes[k].fit.bend_radius_se_mm;
@@ -308,6 +402,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       best_se = se;
       best_location = where;
       best_bound = bound;
+      best_model = model;
     }
   }
   if (refined > 0 && best_radius) {
@@ -315,6 +410,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bend.min_radius_se_mm = best_se;
     bend.location = best_location;
     bend.min_radius_is_bound = best_bound;
+    bend.min_radius_model = best_model;
   }
   return refined;
 }

@@ -71,6 +71,9 @@ void write_cable(std::ostringstream& o, const CableInspection& c) {
   // true: min_bend_radius_mm is an upper bound (a kink too short for its radius to be measured; bend_radius.hpp)
   o << in << "\"min_bend_radius_is_bound\": " << (c.min_bend_radius_mm && c.bend.min_radius_is_bound ? "true" : "false")
     << ",\n";
+  // the model the figure comes from (bend_radius.hpp): circle, fillet, bound or smooth
+  o << in << "\"min_bend_radius_model\": "
+    << (c.min_bend_radius_mm ? std::string("\"") + c.bend.min_radius_model + "\"" : std::string("null")) << ",\n";
   o << in << "\"min_bend_radius_inner_mm\": " << opt_num(c.min_bend_radius_inner_mm, 2) << ",\n";
   o << in << "\"min_bend_location\": " << (c.min_bend_location ? vec(*c.min_bend_location, 2) : "null") << ",\n";
   o << in << "\"paper_bend_radius_mm\": " << opt_num(c.found ? c.paper_bend.radius_mm : std::nullopt, 2) << ",\n";

@@ -1,7 +1,9 @@
 #pragma once
 // Analytic centrelines for the inspect tests: a turtle that lays straight runs and circular arcs.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 #include <vector>
 
@@ -40,6 +42,27 @@ inline std::vector<Eigen::Vector3d> add_noise(std::vector<Eigen::Vector3d> pts, 
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, sigma);
   for (auto& p : pts) p += Eigen::Vector3d(n(rng), n(rng), n(rng));
+  return pts;
+}
+
+// Upper-half surface points (sensor far above, +z) of a tube swept along a centreline in the xy plane, with
+// Gaussian noise along the sensor's rays.
+inline std::vector<Eigen::Vector3d> tube_surface(const std::vector<Eigen::Vector3d>& axis, double r, double noise_mm,
+                                                 std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  const Eigen::Vector3d sensor(0, 0, 600);
+  const int around = std::max(8, int(std::ceil(M_PI * r / 0.5)));
+  std::vector<Eigen::Vector3d> pts;
+  for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
+    const Eigen::Vector3d t = (axis[i + 1] - axis[i]).normalized();
+    const Eigen::Vector3d n1 = Eigen::Vector3d::UnitZ(), n2 = t.cross(n1).normalized();
+    for (int k = 0; k < around; ++k) {
+      const double phi = -0.5 * M_PI + M_PI * (k + 0.5) / around;
+      const Eigen::Vector3d q = axis[i] + r * (std::cos(phi) * n1 + std::sin(phi) * n2);
+      pts.push_back(q + noise_mm * gauss(rng) * (q - sensor).normalized());
+    }
+  }
   return pts;
 }
 

@@ -125,30 +125,6 @@ TEST(FilletFit, VeryTightThinBend) {
   EXPECT_NEAR(f.model.bend_radius_mm, 6.7, 0.05 * 6.7);
 }
 
-namespace {
-
-// Upper-half surface points (sensor far above, +z) of a tube swept along a planar centreline, with Gaussian noise
-// along the sensor's rays.
-std::vector<Eigen::Vector3d> tube_surface(const std::vector<Eigen::Vector3d>& axis, double r, double noise_mm,
-                                          std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  const Eigen::Vector3d sensor(0, 0, 600);
-  const int around = std::max(8, int(std::ceil(M_PI * r / 0.5)));
-  std::vector<Eigen::Vector3d> pts;
-  for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
-    const Eigen::Vector3d t = (axis[i + 1] - axis[i]).normalized();
-    const Eigen::Vector3d n1 = Eigen::Vector3d::UnitZ(), n2 = t.cross(n1).normalized();
-    for (int k = 0; k < around; ++k) {
-      const double phi = -0.5 * M_PI + M_PI * (k + 0.5) / around;
-      const Eigen::Vector3d q = axis[i] + r * (std::cos(phi) * n1 + std::sin(phi) * n2);
-      pts.push_back(q + noise_mm * gauss(rng) * (q - sensor).normalized());
-    }
-  }
-  return pts;
-}
-
-}  // namespace
 
 // A short tight bend (17 deg at 1.9 d: a 6.4 mm arc on an 11.5 mm cable) between long, looser arcs: the circle
 // windows read it as one of the long arcs' looser neighbours; it is found as the most prominent corner of the
@@ -168,7 +144,7 @@ TEST(FilletRefine, ShortTightBendAmongLongArcs) {
   t.arc(66.7, 88.9, t.dir.cross(-Eigen::Vector3d::UnitZ()));
   t.straight(40);
   for (std::uint32_t seed = 1; seed <= 6; ++seed) {
-    const std::vector<Eigen::Vector3d> surface = tube_surface(t.points, r, 0.15, seed);
+    const std::vector<Eigen::Vector3d> surface = test::tube_surface(t.points, r, 0.15, seed);
     const std::vector<Eigen::Vector3d> centreline = test::add_noise(t.points, 0.08, 100 + seed);
     BendRadiusResult b = measure_bend_radius(centreline, d);
     ASSERT_TRUE(b.min_radius_mm);
@@ -194,7 +170,7 @@ TEST(FilletRefine, AShortKinkIsReportedAtAnUpperBound) {
   t.straight(100);
   int bounds = 0;
   for (std::uint32_t seed = 1; seed <= 12; ++seed) {
-    const std::vector<Eigen::Vector3d> surface = tube_surface(t.points, r, 0.3, seed);
+    const std::vector<Eigen::Vector3d> surface = test::tube_surface(t.points, r, 0.3, seed);
     const std::vector<Eigen::Vector3d> centreline = test::add_noise(t.points, 0.08, 200 + seed);
     BendRadiusResult b = measure_bend_radius(centreline, d);
     ASSERT_TRUE(b.min_radius_mm);

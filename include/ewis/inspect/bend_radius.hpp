@@ -57,6 +57,9 @@ struct BendRadiusResult {
   double min_radius_se_mm = 0.0;                               // its standard error (from the fit's covariance)
   bool min_radius_is_bound = false;  // the minimum is an upper bound: a kink too short for its radius to be measured,
                                      // at the loosest radius its surface points allow (bend_refine, fillet_fit.hpp)
+  // Which model the minimum comes from: "circle" (the centreline's circle windows), "fillet" (line-arc-line on the
+  // surface, fillet_fit.hpp), "bound" (a kink's upper bound) or "smooth" (quartic tube, smooth_tube_fit.hpp).
+  const char* min_radius_model = "circle";
   std::optional<Eigen::Vector3d> location;                     // where (middle of the minimum's window)
   double location_arc_mm = 0.0;
   Eigen::Vector3d circle_center = Eigen::Vector3d::Zero();     // the minimum's fitted circle (for pictures)

@@ -1,0 +1,105 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "ewis/inspect/fillet_fit.hpp"
+#include "ewis/inspect/smooth_tube_fit.hpp"
+#include "paths.hpp"
+
+using namespace ewis;
+
+namespace {
+
+// Centreline along the ellipse (A cos t, B sin t, 0), t from t0 to t1, points about `step` mm apart. Its radius of
+// curvature is smallest at t = 0, B^2 / A, and grows on both sides: a bend whose curvature rises and falls, as a
+// spline route's does, with no circular arc anywhere.
+std::vector<Eigen::Vector3d> ellipse(double A, double B, double t0, double t1, double step) {
+  std::vector<Eigen::Vector3d> pts;
+  for (double t = t0; t <= t1;) {
+    pts.emplace_back(A * std::cos(t), B * std::sin(t), 0.0);
+    t += step / std::hypot(A * std::sin(t), B * std::cos(t));
+  }
+  return pts;
+}
+
+constexpr double kA = 80.0, kB = 50.0;  // smallest radius 31.25 mm, 95 mm at t = +-1
+
+}  // namespace
+
+TEST(SmoothTubeFit, CurveAndDistance) {
+  SmoothTubeModel m;
+  m.half_chord_mm = 10.0;
+  m.f = {0.0, 0.0, 1.0, 0.0, 0.0};  // y = (x / 10)^2: curvature 2 / 100 at the middle
+  m.tube_radius_mm = 2.0;
+  EXPECT_NEAR(m.curvature(0.0), 0.02, 1e-12);
+  EXPECT_NEAR(m.point(1.0).y(), 1.0, 1e-12);
+  double tau = std::nan("");
+  EXPECT_NEAR(smooth_tube_centreline_distance(m, Eigen::Vector3d(0, 0, 3), &tau), 3.0, 1e-9);
+  EXPECT_NEAR(tau, 0.0, 1e-9);
+  // a point off the curve's inside at x = 5: the closest point is where the normal passes through it
+  const Eigen::Vector3d on = m.point(0.5), normal = Eigen::Vector3d(-0.1, 1.0, 0.0).normalized();
+  EXPECT_NEAR(smooth_tube_centreline_distance(m, on + 1.5 * normal), 1.5, 1e-6);
+}
+
+// The ellipse's vertex from noisy upper-half surface points: the peak radius, not a window's average.
+TEST(SmoothTubeFit, PeakRadiusOfAnEllipse) {
+  const double truth = kB * kB / kA, r = 3.0;
+  const std::vector<Eigen::Vector3d> axis = ellipse(kA, kB, -0.6, 0.6, 0.25);
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    const std::vector<Eigen::Vector3d> surface = test::tube_surface(axis, r, 0.15, seed);
+    const std::vector<Eigen::Vector3d> centreline = test::add_noise(ellipse(kA, kB, -0.3, 0.3, 1.0), 0.08, seed);
+    const SmoothTubeFit f = fit_smooth_tube(surface, centreline, centreline.front(), centreline.back(), 2.8);
+    ASSERT_TRUE(f.ok) << "seed " << seed;
+    EXPECT_NEAR(f.bend_radius_mm, truth, 0.03 * truth) << "seed " << seed;
+    EXPECT_LT(std::abs(f.bend_radius_mm - truth), 3.0 * f.bend_radius_se_mm + 0.2) << "seed " << seed;
+    EXPECT_NEAR(f.model.tube_radius_mm, r, 0.05) << "seed " << seed;
+    EXPECT_NEAR(f.peak_point.x(), kA, 1.0) << "seed " << seed;
+    EXPECT_NEAR(f.peak_point.y(), 0.0, 3.0) << "seed " << seed;
+  }
+}
+
+// Through the whole refinement: the circle windows and the line-arc-line fillet average the ellipse's peak over
+// windows of several diameters and read it high; the smooth tube is preferred there and reads the peak.
+TEST(FilletRefine, ASmoothBendIsMeasuredAtItsPeak) {
+  const double truth = kB * kB / kA, d = 6.0, r = 0.5 * d;
+  const std::vector<Eigen::Vector3d> axis = ellipse(kA, kB, -1.0, 1.0, 0.5);
+  int high_without = 0;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    const std::vector<Eigen::Vector3d> surface = test::tube_surface(axis, r, 0.15, seed);
+    const std::vector<Eigen::Vector3d> centreline = test::add_noise(axis, 0.08, 300 + seed);
+    const BendRadiusResult circles = measure_bend_radius(centreline, d);
+    ASSERT_TRUE(circles.min_radius_mm);
+    FilletRefineParams fillet_only;
+    fillet_only.smooth = false;
+    BendRadiusResult without = circles, with = circles;
+    refine_bends_with_fillets(without, centreline, surface, r, d, fillet_only);
+    refine_bends_with_fillets(with, centreline, surface, r, d);
+    ASSERT_TRUE(without.min_radius_mm && with.min_radius_mm);
+    if (*without.min_radius_mm > 1.05 * truth) ++high_without;
+    EXPECT_NEAR(*with.min_radius_mm, truth, 0.05 * truth) << "seed " << seed << ", without " << *without.min_radius_mm;
+    ASSERT_TRUE(with.location);
+    EXPECT_NEAR(with.location->x(), kA, 2.0) << "seed " << seed;
+  }
+  EXPECT_GE(high_without, 3);
+}
+
+// A line-arc-line bend keeps the fillet's reading: the quartic cannot follow the curvature's steps at the arc's
+// ends (it overshoots there), and the data prefer the fillet.
+TEST(FilletRefine, AFilletBendKeepsTheFilletsReading) {
+  const double d = 6.0, r = 0.5 * d;
+  for (const double radius : {25.0, 40.0}) {
+    test::Turtle t;
+    t.step = 0.5;
+    t.straight(80);
+    t.arc(radius, 50.0, t.dir.cross(-Eigen::Vector3d::UnitZ()));
+    t.straight(80);
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+      const std::vector<Eigen::Vector3d> surface = test::tube_surface(t.points, r, 0.15, seed);
+      const std::vector<Eigen::Vector3d> centreline = test::add_noise(t.points, 0.08, 400 + seed);
+      BendRadiusResult b = measure_bend_radius(centreline, d);
+      refine_bends_with_fillets(b, centreline, surface, r, d);
+      ASSERT_TRUE(b.min_radius_mm);
+      EXPECT_NEAR(*b.min_radius_mm, radius, 0.03 * radius) << "radius " << radius << ", seed " << seed;
+    }
+  }
+}
