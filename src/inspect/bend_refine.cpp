@@ -305,10 +305,12 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       pts.clear();
       for (std::size_t i = 0; i < surface_points.size(); ++i)
         if (point_arc[i] >= s0 - diameter_mm && point_arc[i] <= s1 + diameter_mm) pts.push_back(surface_points[i]);
-      sf = fit_smooth_tube(pts, window, at_arc(centerline, arc, s0), at_arc(centerline, arc, s1), tube_radius_mm,
-                           params.smooth_fit);
-      if (!sf.ok) return;
-      if (params.regather && scan.cloud && scan.tree) {
+      const bool again_on_scan = params.regather && scan.cloud && scan.tree;
+      SmoothTubeFitParams first = params.smooth_fit;
+      if (again_on_scan) first.max_iterations = std::min(first.max_iterations, 10);  // a start for the refit
+      sf = fit_smooth_tube(pts, window, at_arc(centerline, arc, s0), at_arc(centerline, arc, s1), tube_radius_mm, first);
+      if (!(sf.model.tube_radius_mm > 0) || !std::isfinite(sf.bend_radius_mm) || (!again_on_scan && !sf.ok)) return;
+      if (again_on_scan) {
         // Again on the scan points around the first fit's surface (a tight bend's outer side included).
         const SmoothTubeModel& m1 = sf.model;
         const double band = params.regather_band_mm > 0 ? params.regather_band_mm
@@ -320,13 +322,14 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         for (const Neighbor& q : nb) {
           if (scan.usable && q.index < scan.usable->size() && !(*scan.usable)[q.index]) continue;
           const Eigen::Vector3d x = scan.cloud->points[q.index].cast<double>();
+          const double tau = m1.u.dot(x - m1.origin) / m1.half_chord_mm;  // over the chord only (the fit's own test)
+          if (tau < -1.0 || tau > 1.0) continue;
           if (std::abs(smooth_tube_centreline_distance(m1, x) - m1.tube_radius_mm) <= band) again.push_back(x);
         }
         const SmoothTubeFit second = fit_smooth_tube_from(again, m1, params.smooth_fit);
-        if (second.ok) {
-          sf = second;
-          pts.swap(again);
-        }
+        if (!second.ok) return;
+        sf = second;
+        pts.swap(again);
       }
       // A peak near the window's edge: once more, centred on it.
       if (pass == 0 && std::abs(sf.peak_tau) > 0.8 * params.smooth_fit.peak_fraction) {
@@ -350,11 +353,16 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     }
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
                                o.fit.model.tube_radius_mm > 0;
-    const FilletFit rival = fit_fillet(over, fillet_shaped ? o.fit.model : o.init, params.fit);
+    const FilletModel& start = fillet_shaped ? o.fit.model : o.init;
     const double c = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
     const double sigma2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
-    const double ratio =
-        2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_tube_robust_cost(over, sf.model, c)) / sigma2;
+    const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);
+    // The fillet as it stands first: refitted on these points it can only fit better, so a ratio already short of
+    // the threshold needs no refit (most candidates; the refit is the costly part).
+    if (!(2.0 * (fillet_robust_cost(over, start, c) - smooth_cost) / sigma2 >= params.smooth_min_log_likelihood_ratio))
+      return;
+    const FilletFit rival = fit_fillet(over, start, params.fit);
+    const double ratio = 2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_cost) / sigma2;
     if (!(ratio >= params.smooth_min_log_likelihood_ratio)) return;
     o.smooth = true;
     o.smooth_fit = sf;

@@ -33,7 +33,7 @@ double smooth_tube_centreline_distance(const SmoothTubeModel& m, const Eigen::Ve
 
 struct SmoothTubeFitParams {
   int max_iterations = 30;
-  std::size_t max_points = 4000;  // evenly strided subset used by the fit (0: all)
+  std::size_t max_points = 2500;  // evenly strided subset used by the fit (0: all; the fillet's too)
   double min_noise_mm = 0.05;     // floor of the robust residual scale
   double kernel_factor = 2.5;     // Cauchy scale = kernel_factor x robust sigma of the residuals
   double peak_fraction = 0.5;     // the curvature's peak is sought over |tau| <= this (the window's middle)
