@@ -2,6 +2,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "ewis/core/parallel.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
@@ -62,6 +63,27 @@ std::vector<double> peak_prominence(const std::vector<double>& v) {
     prom[i] = v[i] - std::max(left, right);
   }
   return prom;
+}
+
+// The band around a first fit's surface in which a bend is fitted again on the scan (see FilletRefineParams::regather).
+double regather_band(const FilletRefineParams& params, double sigma_mm, double tube_radius_mm) {
+  return params.regather_band_mm > 0 ? params.regather_band_mm
+                                     : std::max({3.0 * sigma_mm, 0.25 * tube_radius_mm, 0.5});
+}
+
+// The usable scan points within `reach` of `centre` that `keep` accepts (a model's surface band).
+template <class Keep>
+std::vector<Eigen::Vector3d> scan_points_near(const FilletScan& scan, const Eigen::Vector3d& centre, double reach,
+                                              const Keep& keep) {
+  std::vector<Neighbor> nb;
+  scan.tree->radius(centre.cast<float>(), float(reach), nb);
+  std::vector<Eigen::Vector3d> out;
+  for (const Neighbor& n : nb) {
+    if (scan.usable && n.index < scan.usable->size() && !(*scan.usable)[n.index]) continue;
+    const Eigen::Vector3d x = scan.cloud->points[n.index].cast<double>();
+    if (keep(x)) out.push_back(x);
+  }
+  return out;
 }
 
 struct Candidate {
@@ -158,8 +180,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bool ok = false;
     FilletFit fit;
     bool bound = false;  // the radius is the loosest the data allow (fit.model.bend_radius_mm holds it)
-    bool has_init = false;
-    FilletModel init;    // the fillet's start (the legs from the centreline)
+    std::optional<FilletModel> init;  // the fillet's start (the legs from the centreline)
     bool smooth = false; // the smooth tube's radius replaces the fillet's (see FilletRefineParams::smooth)
     SmoothTubeFit smooth_fit;
   };
@@ -188,7 +209,6 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     init.bend_radius_mm = std::clamp(p.radius_mm, 0.5 * diameter_mm, 50.0 * diameter_mm);
     init.tube_radius_mm = tube_radius_mm;
     outcomes[k].init = init;
-    outcomes[k].has_init = true;
     // The window's surface points: those whose nearest centreline sample lies inside it.
     std::vector<Eigen::Vector3d> pts;
     for (std::size_t i = 0; i < surface_points.size(); ++i)
@@ -198,18 +218,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     if (params.regather && scan.cloud && scan.tree && o.fit.ok) {
       // Again on the scan points around the first fit's surface (the corner's apex included).
       const FilletModel& m1 = o.fit.model;
-      const double band = params.regather_band_mm > 0
-                              ? params.regather_band_mm
-                              : std::max({3.0 * o.fit.sigma_mm, 0.25 * tube_radius_mm, 0.5});
-      const double reach = cands[k].half_window_mm + m1.tube_radius_mm + band;
-      std::vector<Neighbor> nb;
-      scan.tree->radius(m1.vertex.cast<float>(), float(reach), nb);
-      std::vector<Eigen::Vector3d> again;
-      for (const Neighbor& n : nb) {
-        if (scan.usable && n.index < scan.usable->size() && !(*scan.usable)[n.index]) continue;
-        const Eigen::Vector3d x = scan.cloud->points[n.index].cast<double>();
-        if (std::abs(fillet_centreline_distance(m1, x) - m1.tube_radius_mm) <= band) again.push_back(x);
-      }
+      const double band = regather_band(params, o.fit.sigma_mm, tube_radius_mm);
+      std::vector<Eigen::Vector3d> again = scan_points_near(
+          scan, m1.vertex, cands[k].half_window_mm + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
+            return std::abs(fillet_centreline_distance(m1, x) - m1.tube_radius_mm) <= band;
+          });
       const FilletFit second = fit_fillet(again, m1, params.fit);
       if (second.ok) {
         o.fit = second;
@@ -313,19 +326,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (again_on_scan) {
         // Again on the scan points around the first fit's surface (a tight bend's outer side included).
         const SmoothTubeModel& m1 = sf.model;
-        const double band = params.regather_band_mm > 0 ? params.regather_band_mm
-                                                        : std::max({3.0 * sf.sigma_mm, 0.25 * tube_radius_mm, 0.5});
-        const double reach = std::hypot(m1.half_chord_mm, h) + m1.tube_radius_mm + band;
-        std::vector<Neighbor> nb;
-        scan.tree->radius(m1.origin.cast<float>(), float(reach), nb);
-        std::vector<Eigen::Vector3d> again;
-        for (const Neighbor& q : nb) {
-          if (scan.usable && q.index < scan.usable->size() && !(*scan.usable)[q.index]) continue;
-          const Eigen::Vector3d x = scan.cloud->points[q.index].cast<double>();
-          const double tau = m1.u.dot(x - m1.origin) / m1.half_chord_mm;  // over the chord only (the fit's own test)
-          if (tau < -1.0 || tau > 1.0) continue;
-          if (std::abs(smooth_tube_centreline_distance(m1, x) - m1.tube_radius_mm) <= band) again.push_back(x);
-        }
+        const double band = regather_band(params, sf.sigma_mm, tube_radius_mm);
+        std::vector<Eigen::Vector3d> again = scan_points_near(
+            scan, m1.origin, std::hypot(m1.half_chord_mm, h) + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
+              return m1.over_chord(x) && std::abs(smooth_tube_centreline_distance(m1, x) - m1.tube_radius_mm) <= band;
+            });
         const SmoothTubeFit second = fit_smooth_tube_from(again, m1, params.smooth_fit);
         if (!second.ok) return;
         sf = second;
@@ -345,15 +350,13 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         std::abs(sf.model.tube_radius_mm - tube_radius_mm) > params.smooth_tube_radius_tolerance * tube_radius_mm)
       return;
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
-    if (!o.has_init) return;
+    if (!o.init) return;
     std::vector<Eigen::Vector3d> over;
-    for (const Eigen::Vector3d& x : pts) {
-      const double tau = sf.model.u.dot(x - sf.model.origin) / sf.model.half_chord_mm;
-      if (tau >= -1.0 && tau <= 1.0) over.push_back(x);
-    }
+    for (const Eigen::Vector3d& x : pts)
+      if (sf.model.over_chord(x)) over.push_back(x);
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
                                o.fit.model.tube_radius_mm > 0;
-    const FilletModel& start = fillet_shaped ? o.fit.model : o.init;
+    const FilletModel& start = fillet_shaped ? o.fit.model : *o.init;
     const double c = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
     const double sigma2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
     const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);

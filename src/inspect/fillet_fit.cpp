@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "ewis/core/cloud.hpp"
+#include "ewis/core/robust.hpp"
 
 namespace ewis {
 namespace {
@@ -15,9 +16,6 @@ namespace {
 constexpr int kParams = 9;  // vertex (3), leg1 tangent (2), leg2 tangent (2), log bend radius, tube radius
 using Vec = Eigen::Matrix<double, kParams, 1>;
 using Mat = Eigen::Matrix<double, kParams, kParams>;
-
-double cauchy_weight(double r, double c) { return 1.0 / (1.0 + (r / c) * (r / c)); }
-double cauchy_rho(double r, double c) { return 0.5 * c * c * std::log1p((r / c) * (r / c)); }
 
 // Two unit vectors perpendicular to u (a tangent basis for a direction's update).
 void tangent_basis(const Eigen::Vector3d& u, Eigen::Vector3d& e1, Eigen::Vector3d& e2) {
@@ -37,13 +35,6 @@ FilletModel apply(const FilletModel& base, const Vec& x) {
   m.bend_radius_mm = base.bend_radius_mm * std::exp(std::clamp(x[7], -3.0, 3.0));
   m.tube_radius_mm = base.tube_radius_mm + x[8];
   return m;
-}
-
-double median_of(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  return v[mid];
 }
 
 }  // namespace
@@ -102,12 +93,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
   auto residuals = [&](const FilletModel& m, std::vector<double>& r) {
     for (std::size_t i = 0; i < n; ++i) r[i] = fillet_centreline_distance(m, pts[i]) - m.tube_radius_mm;
   };
-  auto robust_sigma = [&](const std::vector<double>& r) {
-    tmp.assign(r.begin(), r.end());
-    const double med = median_of(tmp);
-    for (double& v : tmp) v = std::abs(v - med);
-    return std::max(1.4826 * median_of(tmp), params.min_noise_mm);
-  };
+  auto sigma_of = [&](const std::vector<double>& r) { return robust_sigma(r, params.min_noise_mm, tmp); };
   auto cost_of = [&](const std::vector<double>& r, double c) {
     double s = 0;
     for (double v : r) s += cauchy_rho(v, c);
@@ -158,7 +144,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
   bool converged = false;
   for (int it = 0; it < params.max_iterations; ++it) {
     ++out.iterations;
-    const double c = params.kernel_factor * robust_sigma(res);
+    const double c = params.kernel_factor * sigma_of(res);
     jacobian(model);
     const Normal ne = normal_equations(c);
     const Mat& H = ne.H;
@@ -198,7 +184,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
     if (converged) break;
   }
   // Covariance of the bend radius from the weighted normal equations at the solution.
-  const double sigma = robust_sigma(res);
+  const double sigma = sigma_of(res);
   jacobian(model);
   const Normal ne = normal_equations(params.kernel_factor * sigma);
   Mat H = ne.H;

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "ewis/core/cloud.hpp"
+#include "ewis/core/robust.hpp"
 
 namespace ewis {
 namespace {
@@ -18,9 +19,6 @@ constexpr int kParams = 2 * kCoefficients + 1;  // f (5), g (5), tube radius
 using Vec = Eigen::Matrix<double, kParams, 1>;
 using Mat = Eigen::Matrix<double, kParams, kParams>;
 using Coefficients = std::array<double, kCoefficients>;
-
-double cauchy_weight(double r, double c) { return 1.0 / (1.0 + (r / c) * (r / c)); }
-double cauchy_rho(double r, double c) { return 0.5 * c * c * std::log1p((r / c) * (r / c)); }
 
 struct PolyValue {
   double value = 0, d1 = 0, d2 = 0;
@@ -55,8 +53,9 @@ double curvature_of(const CurvePoint& q) {
   return n > 0 ? q.d1.cross(q.d2).norm() / (n * n * n) : 0.0;
 }
 
-// Closest point's parameter by Newton steps on |p - c(tau)|^2 from tau.
+// Closest point's parameter by Newton steps on |p - c(tau)|^2 from tau (nan: from p's projection on the chord).
 double closest_tau(const SmoothTubeModel& m, const Eigen::Vector3d& p, double tau) {
+  tau = std::clamp(std::isfinite(tau) ? tau : m.tau_of(p), -1.5, 1.5);
   for (int it = 0; it < 6; ++it) {
     const CurvePoint q = curve_at(m, tau);
     const Eigen::Vector3d d = p - q.c;
@@ -68,13 +67,6 @@ double closest_tau(const SmoothTubeModel& m, const Eigen::Vector3d& p, double ta
     if (std::abs(step) < 1e-10) break;
   }
   return tau;
-}
-
-double median_of(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  return v[mid];
 }
 
 SmoothTubeModel apply(const SmoothTubeModel& base, const Vec& x) {
@@ -91,10 +83,8 @@ SmoothTubeModel apply(const SmoothTubeModel& base, const Vec& x) {
 std::vector<Eigen::Vector3d> points_over_chord(const std::vector<Eigen::Vector3d>& points, const SmoothTubeModel& m,
                                                std::size_t max_points) {
   std::vector<Eigen::Vector3d> over;
-  for (const Eigen::Vector3d& p : points) {
-    const double tau = m.u.dot(p - m.origin) / m.half_chord_mm;
-    if (tau >= -1.0 && tau <= 1.0) over.push_back(p);
-  }
+  for (const Eigen::Vector3d& p : points)
+    if (m.over_chord(p)) over.push_back(p);
   return pick(over, evenly_strided(over.size(), max_points));
 }
 
@@ -104,10 +94,15 @@ Eigen::Vector3d SmoothTubeModel::point(double tau) const { return curve_at(*this
 
 double SmoothTubeModel::curvature(double tau) const { return curvature_of(curve_at(*this, tau)); }
 
+double SmoothTubeModel::tau_of(const Eigen::Vector3d& p) const { return u.dot(p - origin) / half_chord_mm; }
+
+bool SmoothTubeModel::over_chord(const Eigen::Vector3d& p) const {
+  const double tau = tau_of(p);
+  return tau >= -1.0 && tau <= 1.0;
+}
+
 double smooth_tube_centreline_distance(const SmoothTubeModel& m, const Eigen::Vector3d& p, double* tau_io) {
-  double start = tau_io && std::isfinite(*tau_io) ? *tau_io : m.u.dot(p - m.origin) / m.half_chord_mm;
-  start = std::clamp(start, -1.5, 1.5);
-  const double tau = closest_tau(m, p, start);
+  const double tau = closest_tau(m, p, tau_io ? *tau_io : std::numeric_limits<double>::quiet_NaN());
   if (tau_io) *tau_io = tau;
   return (p - curve_at(m, tau).c).norm();
 }
@@ -138,7 +133,7 @@ SmoothTubeFit fit_smooth_tube(const std::vector<Eigen::Vector3d>& surface_points
   Eigen::Matrix<double, kCoefficients, 2> rhs = Eigen::Matrix<double, kCoefficients, 2>::Zero();
   auto add = [&](const Eigen::Vector3d& c) {
     const Eigen::Vector3d d = c - m.origin;
-    const double tau = m.u.dot(d) / m.half_chord_mm;
+    const double tau = m.tau_of(c);
     if (tau < -1.0 - 1e-9 || tau > 1.0 + 1e-9) return;
     Eigen::Matrix<double, kCoefficients, 1> row;
     double pw = 1.0;
@@ -178,20 +173,14 @@ SmoothTubeFit fit_smooth_tube_from(const std::vector<Eigen::Vector3d>& surface_p
   auto residuals = [&](const SmoothTubeModel& mm, std::vector<double>& r, std::vector<double>& t,
                        std::vector<Eigen::Vector3d>& nrm) {
     for (std::size_t i = 0; i < n; ++i) {
-      double ti = tau[i];
-      const double d = smooth_tube_centreline_distance(mm, pts[i], &ti);
-      t[i] = ti;
+      t[i] = closest_tau(mm, pts[i], tau[i]);
+      const Eigen::Vector3d dir = pts[i] - curve_at(mm, t[i]).c;
+      const double d = dir.norm();
       r[i] = d - mm.tube_radius_mm;
-      const Eigen::Vector3d dir = pts[i] - curve_at(mm, ti).c;
       nrm[i] = d > 0 ? Eigen::Vector3d(dir / d) : Eigen::Vector3d::Zero();
     }
   };
-  auto robust_sigma = [&](const std::vector<double>& r) {
-    tmp.assign(r.begin(), r.end());
-    const double med = median_of(tmp);
-    for (double& v : tmp) v = std::abs(v - med);
-    return std::max(1.4826 * median_of(tmp), params.min_noise_mm);
-  };
+  auto sigma_of = [&](const std::vector<double>& r) { return robust_sigma(r, params.min_noise_mm, tmp); };
   auto cost_of = [&](const std::vector<double>& r, double c) {
     double s = 0;
     for (double v : r) s += cauchy_rho(v, c);
@@ -228,7 +217,7 @@ SmoothTubeFit fit_smooth_tube_from(const std::vector<Eigen::Vector3d>& surface_p
   double lambda = 1e-3;
   bool converged = false;
   for (int it = 0; it < params.max_iterations && !converged; ++it) {
-    const double c = params.kernel_factor * robust_sigma(res);
+    const double c = params.kernel_factor * sigma_of(res);
     const Normal ne = normal_equations(c);
     const double cost = cost_of(res, c);
     bool accepted = false;
@@ -260,7 +249,7 @@ SmoothTubeFit fit_smooth_tube_from(const std::vector<Eigen::Vector3d>& surface_p
     }
     if (!accepted) converged = true;  // no descent left: at the minimum
   }
-  const double sigma = robust_sigma(res);
+  const double sigma = sigma_of(res);
   const Normal ne = normal_equations(params.kernel_factor * sigma);
   out.model = model;
   out.sigma_mm = sigma;

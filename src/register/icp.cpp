@@ -11,6 +11,7 @@
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
+#include "ewis/core/robust.hpp"
 
 namespace ewis {
 namespace {
@@ -36,10 +37,6 @@ struct Cost {
   double cost = 0.0;
   std::size_t count = 0;
 };
-
-// Cauchy kernel: rho(r) = c^2/2 log(1 + (r/c)^2), IRLS weight rho'(r)/r = 1 / (1 + (r/c)^2).
-double cauchy_rho(double r, double c) { return 0.5 * c * c * std::log1p((r / c) * (r / c)); }
-double cauchy_weight(double r, double c) { return 1.0 / (1.0 + (r / c) * (r / c)); }
 
 // Small rigid update about the centre: p -> R(omega) p + v (p relative to the centre).
 Eigen::Matrix3d rotation_of(const Eigen::Vector3d& omega) {

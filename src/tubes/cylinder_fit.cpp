@@ -8,33 +8,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ewis/core/robust.hpp"
 #include "ewis/tubes/directions.hpp"
 
 namespace ewis {
 namespace {
-
-double median_of(std::vector<double>& v) {
-  if (v.empty()) return 0.0;
-  const std::size_t m = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + m, v.end());
-  return v[m];
-}
-
-// Robust sigma of residuals: 1.4826 x median absolute deviation about the median.
-double robust_sigma(const std::vector<double>& r, double floor) {
-  std::vector<double> tmp(r);
-  const double med = median_of(tmp);
-  for (double& x : tmp) x = std::abs(x - med);
-  return std::max(1.4826 * median_of(tmp), floor);
-}
-
-// The median and the robust sigma of `r` together, `tmp` a reusable buffer (no allocation per round).
-void median_and_sigma(const std::vector<double>& r, double floor, std::vector<double>& tmp, double& med, double& sigma) {
-  tmp.assign(r.begin(), r.end());
-  med = median_of(tmp);
-  for (double& x : tmp) x = std::abs(x - med);
-  sigma = std::max(1.4826 * median_of(tmp), floor);
-}
 
 constexpr double kSparseArcMaxDeg = 200.0;  // see sparse_arc_extent_deg
 
@@ -126,7 +104,7 @@ bool gauss_newton_rounds(const std::vector<Eigen::Vector3d>& points, const Cylin
     // trimming: inliers from the current model's residuals (paper's "empty space around cables")
     residuals(points, c, u, rho, resid, radial);
     double med = 0, sigma = 0;
-    median_and_sigma(resid, params.min_sigma_mm, tmp, med, sigma);
+    median_and_robust_sigma(resid, params.min_sigma_mm, tmp, med, sigma);
     for (std::size_t i = 0; i < n; ++i) inl[i] = std::abs(resid[i] - med) <= params.trim_sigmas * sigma;
     const int count = drop_far_side(points, radial, params, inl);
     if (count < 6) return false;

@@ -23,6 +23,8 @@ struct SmoothTubeModel {
   double tube_radius_mm = 1.0;
 
   Eigen::Vector3d point(double tau) const;
+  double tau_of(const Eigen::Vector3d& p) const;    // p's projection on the chord, as a parameter
+  bool over_chord(const Eigen::Vector3d& p) const;  // tau_of(p) within [-1, 1]: the points a fit uses
   // Curvature (1/mm) of the centreline at tau.
   double curvature(double tau) const;
 };
