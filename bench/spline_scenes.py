@@ -16,11 +16,17 @@ This script builds such scenes independently of src/sim (numpy only):
     parameter grid), where it is, and the as-built centreline; bend defects are rules stricter than the
     as-built radius (allowed = radius / U(0.6, 0.85)), clean cables have allowed = radius / U(1.2, 1.6);
   - no clearance defects: routes are drawn again until every gap exceeds clearance + 2 mm.
+With --bundle each scene holds two cables tied side by side instead (the hard case "touching objects"): cable_B is
+cable_A's sideways companion (each point moved horizontally, perpendicular to the tangent, by both radii + the gap),
+touching or up to 2 mm apart in odd scenes (a clearance defect at clearance 3 mm; the CAD keeps 4.5 mm) and 5-9 mm
+apart in even ones, held by shared connectors at both ends; the truth gap is the least distance between the two
+as-built centrelines less both radii, and each cable's truth radius comes from the companion's numerical
+derivatives. No bend defects there.
 Each scene is then scanned by `ewis simulate --cad scene.obj --plan plan.json --asbuilt asbuilt.obj
 --scene-truth scene_truth.json` (the project's scanner: noise along the rays, 40 % outliers, a perturbed
 pose.txt), which writes truth.json with the camera pose. Evaluate with `ewis evaluate --campaign OUT`.
 
-Usage: spline_scenes.py --ewis build/bin/ewis --out DIR [--scenes 20] [--seed 1] [--deviation-mm 6]
+Usage: spline_scenes.py --ewis build/bin/ewis --out DIR [--scenes 20] [--seed 1] [--deviation-mm 6] [--bundle]
                         [--noise-mm 0.2] [--outliers 0.4]
 """
 import argparse
@@ -152,6 +158,29 @@ def min_radius(ctrl):
     return 1.0 / kappa[i], p[i]
 
 
+def companion(ctrl, offset_mm, u):
+    """The spline's companion in a bundle: each point moved offset_mm sideways (horizontal, perpendicular to the
+    tangent), with its derivatives in u (those of the offset, from the spline's own up to the third order by
+    differences of the analytic second derivative)."""
+    p, d1, d2 = bspline(ctrl, u)
+    up = np.array([0.0, 0.0, 1.0])
+    side = np.cross(d1, up)
+    side /= np.linalg.norm(side, axis=1)[:, None]
+    q = p + offset_mm * side
+    dq = np.gradient(q, u, axis=0, edge_order=2)
+    ddq = np.gradient(dq, u, axis=0, edge_order=2)
+    return q, dq, ddq
+
+
+def companion_min_radius(ctrl, offset_mm):
+    u = np.linspace(0, 1, 40001)
+    q, dq, ddq = companion(ctrl, offset_mm, u)
+    kappa = np.linalg.norm(np.cross(dq, ddq), axis=1) / np.linalg.norm(dq, axis=1) ** 3
+    inner = slice(20, len(u) - 20)  # the differences' one-sided ends left out
+    i = int(np.argmax(kappa[inner])) + 20
+    return 1.0 / kappa[i], q[i]
+
+
 # ---------------------------------------------------------------- scene
 def seg_dist(a, b):
     """Smallest distance between two point sets (brute force on 2 mm samples)."""
@@ -179,7 +208,7 @@ def look_at(eye, target, up):
     return m
 
 
-def make_scene(rng, index, deviation_mm):
+def make_scene(rng, index, deviation_mm, bundle=False):
     plate_half = np.array([300.0, 200.0, 3.0])
     rigid = [("structure", (np.array([0, 0, -3.0]), np.eye(3), plate_half))]
     # ribs along the long edges, a cross rib at each end, blocks in two corners: features in every direction
@@ -192,9 +221,11 @@ def make_scene(rng, index, deviation_mm):
     rigid.append(("block_1", (np.array([-230.0, -140.0, 18.0]), rot, np.array([22.0, 14.0, 18.0]))))
     rigid.append(("block_2", (np.array([235.0, 135.0, 10.0]), np.eye(3), np.array([15.0, 25.0, 10.0]))))
 
-    ncables = int(rng.integers(1, 4))
+    ncables = 2 if bundle else int(rng.integers(1, 4))
     defect_scene = index % 2 == 1
-    defect_cable = int(rng.integers(0, ncables)) if defect_scene else -1
+    defect_cable = int(rng.integers(0, ncables)) if defect_scene and not bundle else -1
+    if bundle:
+        return make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene)
     cables, nominal_objs, built_objs, plan_elems, truth_cables, defects = [], [], [], [], [], []
     attached_objs = []
     lanes = rng.permutation([-95.0, 0.0, 95.0])[:ncables]
@@ -284,6 +315,99 @@ def make_scene(rng, index, deviation_mm):
         for (rname, box) in rigid:
             if point_box_distance(pb, *box).min() < r + 3.0 + 2.0 or point_box_distance(pn, *box).min() < r + 5.0:
                 return None
+    return finish_scene(rng, index, rigid, attached_objs, nominal_objs, built_objs, plan_elems, truth_cables, defects,
+                        "bend" if defect_scene else "none")
+
+
+def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene):
+    """Two cables side by side along their whole length (a bundle), cable_B the sideways companion of cable_A's
+    spline: touching or nearly (gap 0-2 mm, a clearance defect at clearance 3 mm) in odd scenes, 5-9 mm apart
+    in even ones. Shared connectors hold both ends (attached to both)."""
+    clearance = 3.0
+    for attempt in range(500):
+        da = float(rng.choice([4.0, 5.5, 7.0, 9.0, 11.0]) + rng.uniform(-0.3, 0.3))
+        db = float(rng.choice([4.0, 5.5, 7.0, 9.0, 11.0]) + rng.uniform(-0.3, 0.3))
+        ra, rb_ = da / 2, db / 2
+        gap = rng.uniform(0.0, clearance - 1.0) if defect_scene else rng.uniform(clearance + 2.0, clearance + 6.0)
+        offset = ra + rb_ + gap
+        n_ctrl = int(rng.integers(6, 9))
+        xs = np.linspace(-230, 230, n_ctrl) + np.concatenate([[0], rng.uniform(-25, 25, n_ctrl - 2), [0]])
+        ys = rng.uniform(-30, 30) + np.concatenate([[0], rng.uniform(-40, 40, n_ctrl - 2), [0]])
+        zs = np.concatenate([[30.0], rng.uniform(20 + max(ra, rb_), 70, n_ctrl - 2), [30.0]])
+        ctrl = np.stack([xs, ys, zs], axis=1)
+        built = ctrl.copy()
+        built[2:-2] += rng.uniform(-1, 1, (n_ctrl - 4, 3)) * deviation_mm
+        built[2:-2, 2] = np.maximum(built[2:-2, 2], 20 + max(ra, rb_))
+        rn_a, _ = min_radius(ctrl)
+        rb_a, loc_a = min_radius(built)
+        rn_b, _ = companion_min_radius(ctrl, offset)
+        rb_b, loc_b = companion_min_radius(built, offset)
+        if min(rn_a / da, rn_b / db) < 3.0 or min(rb_a / da, rb_b / db) < 2.5:
+            continue
+        u = np.linspace(0, 1, 6001)
+        pa_n, _ = resample(bspline(ctrl, u)[0], 0.5)
+        pa_b, len_a = resample(bspline(built, u)[0], 0.5)
+        pb_n, _ = resample(companion(ctrl, offset, u)[0], 0.5)
+        pb_b, len_b = resample(companion(built, offset, u)[0], 0.5)
+        low = min(pa_b[:, 2].min() - ra, pb_b[:, 2].min() - rb_, pa_n[:, 2].min() - ra, pb_n[:, 2].min() - rb_)
+        if low < clearance + 5.0:
+            continue  # gap to the plate above clearance + 2
+        if max(np.abs(pa_b[:, 1]).max(), np.abs(pb_b[:, 1]).max(), np.abs(pb_n[:, 1]).max()) > 150:
+            continue
+        # the true gap: the least distance between the two as-built centrelines less both radii (the companion
+        # may come closer than its offset where the spline bends towards it)
+        true_gap = seg_dist(pa_b, pb_b) - ra - rb_
+        nominal_gap = seg_dist(pa_n, pb_n) - ra - rb_
+        if defect_scene and not (0.0 <= true_gap <= clearance - 1.0):
+            continue
+        if not defect_scene and (true_gap < clearance + 2.0 or nominal_gap < clearance + 0.5):
+            continue
+        break
+    else:
+        raise RuntimeError("no bundle route found")
+    if defect_scene:
+        # the nominal (CAD) bundle keeps the clearance; the as-built one was tied tighter
+        wide = ra + rb_ + clearance + 1.5
+        pb_n, _ = resample(companion(ctrl, wide, np.linspace(0, 1, 6001))[0], 0.5)
+    attached_objs, attached = [], []
+    for end, (pa, pbb) in enumerate([(pa_b[0], pb_b[0]), (pa_b[-1], pb_b[-1])]):
+        t = (pa_b[1] - pa_b[0]) if end == 0 else (pa_b[-2] - pa_b[-1])
+        t = -t / np.linalg.norm(t)
+        mid = 0.5 * (pa + pbb)
+        side = pbb - pa
+        side -= (side @ t) * t
+        side /= np.linalg.norm(side)
+        axes = np.stack([t, side, np.cross(t, side)])
+        half_side = 0.5 * np.linalg.norm(pbb - pa) + max(ra, rb_) + 6.0
+        cname = "connector_AB%d" % (end + 1)
+        attached_objs.append((cname, (mid + t * (12.0 - 8.0), axes, np.array([12.0, half_side, max(ra, rb_) + 6.0]))))
+        attached.append(cname)
+    nominal_objs = [("cable_A", tube_mesh(pa_n, ra)), ("cable_B", tube_mesh(pb_n, rb_))]
+    built_objs = [("cable_A", tube_mesh(pa_b, ra)), ("cable_B", tube_mesh(pb_b, rb_))]
+    plan_elems, truth_cables, defects = [], [], []
+    for name, d, rbuilt, rnom, loc, pts, length in (("cable_A", da, rb_a, rn_a, loc_a, pa_b, len_a),
+                                                   ("cable_B", db, rb_b, rn_b, loc_b, pb_b, len_b)):
+        allowed = rbuilt / rng.uniform(1.2, 1.6)
+        plan_elems.append({"name": name, "kind": "cable", "diameter_mm": round(d, 3),
+                           "min_bend_radius_mm": round(allowed, 2), "clearance_mm": clearance, "attached": attached})
+        truth_cables.append({"name": name, "diameter_mm": round(d, 3), "min_bend_radius_mm": round(rbuilt, 4),
+                             "min_bend_location": [round(x, 4) for x in loc],
+                             "nominal_min_bend_radius_mm": round(rnom, 4),
+                             "allowed_bend_radius_mm": round(allowed, 2), "clearance_mm": clearance,
+                             "attached": attached, "length_mm": round(length, 4),
+                             "centerline": [[round(x, 4) for x in p] for p in pts[::2]]})
+    if defect_scene:
+        defects.append({"kind": "clearance", "element": "cable_A", "with": "cable_B", "gap_mm": round(true_gap, 4)})
+    for (name, r, pts) in (("cable_A", ra, pa_b), ("cable_B", rb_, pb_b)):
+        for (rname, box) in rigid:
+            if point_box_distance(pts, *box).min() < r + clearance + 2.0:
+                return None
+    return finish_scene(rng, index, rigid, attached_objs, nominal_objs, built_objs, plan_elems, truth_cables, defects,
+                        "clearance" if defect_scene else "none")
+
+
+def finish_scene(rng, index, rigid, attached_objs, nominal_objs, built_objs, plan_elems, truth_cables, defects,
+                 requested):
     rigid_objs = [(n, box_mesh(*b)) for n, b in rigid + attached_objs]
     plan = {"units": "mm", "elements": plan_elems + [{"name": n, "kind": "rigid"} for n, _ in rigid + attached_objs]}
     # the sensor 560-640 mm from the scene's middle, within 30 deg of straight down
@@ -294,7 +418,7 @@ def make_scene(rng, index, deviation_mm):
     eye = target + dirv * rng.uniform(560, 640)
     roll = rng.uniform(0, 2 * math.pi)
     cam = look_at(eye, target, np.array([math.cos(roll), math.sin(roll), 0.0]))
-    truth = {"seed": int(index), "requested_defect": "bend" if defect_scene else "none", "cables": truth_cables,
+    truth = {"seed": int(index), "requested_defect": requested, "cables": truth_cables,
              "defects": defects, "foreign_objects": [], "camera_to_cad": cam.tolist(),
              "generator": "bench/spline_scenes.py"}
     return rigid_objs, nominal_objs, built_objs, plan, truth
@@ -309,13 +433,15 @@ def main():
     ap.add_argument("--deviation-mm", type=float, default=6.0)
     ap.add_argument("--noise-mm", type=float, default=None)
     ap.add_argument("--outliers", type=float, default=None)
+    ap.add_argument("--bundle", action="store_true",
+                    help="two cables side by side (touching or nearly in odd scenes: clearance defects)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     for i in range(a.scenes):
         rng = np.random.default_rng([a.seed, i])
         made = None
         while made is None:
-            made = make_scene(rng, i, a.deviation_mm)
+            made = make_scene(rng, i, a.deviation_mm, a.bundle)
         rigid_objs, nominal_objs, built_objs, plan, truth = made
         src = os.path.join(a.out, "scene_%03d_cad" % i)
         dst = os.path.join(a.out, "scene_%03d" % i)
