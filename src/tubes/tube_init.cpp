@@ -104,12 +104,18 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
     if (s2 >= score) u = u2;
   }
   std::vector<Eigen::Vector3d> win;
-  for (const auto& q : rel) {
+  std::vector<std::uint32_t> win_ids;
+  for (std::size_t k = 0; k < rel.size(); ++k) {
+    const Eigen::Vector3d& q = rel[k];
     const double t = q.dot(u);
     if (std::abs(t) > hl) continue;
     const double dd = (q - u * t).norm();
-    if (dd <= r + 2 * tol0 && dd >= 0.3 * r) win.push_back(q);
+    if (dd <= r + 2 * tol0 && dd >= 0.3 * r) {
+      win.push_back(q);
+      win_ids.push_back(ids[k]);
+    }
   }
+  drop_facing_away(ctx, win, win_ids, Eigen::Vector3d::Zero(), u);
   CylinderFitParams fp = ctx.fit_params(r, est.center);
   fp.max_radius_mm = 3.0 * r;
   const CylinderFitResult fit = fit_cylinder(win, Eigen::Vector3d::Zero(), u, r, fp);

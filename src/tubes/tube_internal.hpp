@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "ewis/core/cloud.hpp"
@@ -26,6 +27,7 @@ struct Context {
   std::vector<Eigen::Vector3d> fine1, fine2;  // refinement cones (coarse-to-fine)
   std::vector<Eigen::Vector3d> bridge;        // the narrow cone searched across a gap
   std::vector<Neighbor> scratch;
+  std::unordered_map<std::uint32_t, Eigen::Vector3f> normals;  // per scan point, towards the sensor (facing_check)
 
   Context(const Cloud& c, const KdTree& t, const TubeParams& p) : cloud(c), tree(t), params(p) {}
   bool usable(std::uint32_t i) const { return !params.usable || (i < params.usable->size() && (*params.usable)[i]); }
@@ -36,6 +38,13 @@ struct Context {
 // Usable scan points within `radius` of `center`, relative to `origin` (double), with their indices.
 void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Eigen::Vector3d& origin,
             std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>* ids = nullptr);
+
+// TubeParams::facing_check: drops from `win` (relative to the gather origin, ids alongside) the points whose
+// normal points against the direction from the axis (through `axis_point` along unit `axis`, same frame) to them.
+// Nothing is dropped without a sensor, or when the check would leave fewer than half the points (normals
+// smeared across a tube only a few points wide).
+void drop_facing_away(Context& ctx, std::vector<Eigen::Vector3d>& win, std::vector<std::uint32_t>& ids,
+                      const Eigen::Vector3d& axis_point, const Eigen::Vector3d& axis);
 
 // paper 4.2.2: the fullest candidate cylinder (axis through the origin of `rel`, radius r) among the
 // directions `dirs` rotated onto `around`; counts points in the shell |dist - r| <= tol with t in [t0, t1].

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ewis/filter/normals.hpp"
 #include "ewis/tubes/directions.hpp"
 #include "tube_internal.hpp"
 
@@ -31,6 +32,42 @@ void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Ei
     rel.push_back(ctx.cloud.points[nb.index].cast<double>() - origin);
     if (ids) ids->push_back(nb.index);
   }
+}
+
+void drop_facing_away(Context& ctx, std::vector<Eigen::Vector3d>& win, std::vector<std::uint32_t>& ids,
+                      const Eigen::Vector3d& axis_point, const Eigen::Vector3d& axis) {
+  if (!ctx.params.has_sensor || !ctx.params.facing_check || win.size() != ids.size() || win.empty()) return;
+  std::vector<std::uint32_t> missing;
+  for (std::uint32_t i : ids)
+    if (!ctx.normals.count(i)) missing.push_back(i);
+  if (!missing.empty()) {
+    NormalParams np;
+    np.k = 12;
+    np.viewpoint = ctx.params.sensor_position.cast<float>();
+    const std::vector<Eigen::Vector3f> n = estimate_normals(ctx.tree, missing, np);
+    for (std::size_t k = 0; k < missing.size(); ++k) ctx.normals.emplace(missing[k], n[k]);
+  }
+  std::vector<char> keep(win.size(), 1);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < win.size(); ++k) {
+    const Eigen::Vector3d v = win[k] - axis_point;
+    const Eigen::Vector3d radial = v - axis * axis.dot(v);
+    const Eigen::Vector3f& n = ctx.normals.at(ids[k]);
+    const double len = radial.norm();
+    // an undefined normal (0, 0, 0) or a point on the axis: no evidence either way
+    if (len > 0 && n.squaredNorm() > 0 && n.cast<double>().dot(radial) < ctx.params.facing_min_cos * len) keep[k] = 0;
+    kept += keep[k];
+  }
+  if (kept == win.size() || 2 * kept < win.size()) return;
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < win.size(); ++k)
+    if (keep[k]) {
+      win[w] = win[k];
+      ids[w] = ids[k];
+      ++w;
+    }
+  win.resize(w);
+  ids.resize(w);
 }
 
 namespace {
@@ -154,9 +191,10 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
   const double h = std::max(ctx.half_window_mm * scale, 2.0 * ctx.resolution_mm);
   const double reach = L + h;
   std::vector<Eigen::Vector3d> rel;
+  std::vector<std::uint32_t> rel_ids;
   // one k-d tree query per step (paper 4.2.2 "fast"); the counting below works on this local set
   gather(ctx, a + d * (0.5 * reach), std::sqrt(0.25 * reach * reach + (r_ref + 2 * tol) * (r_ref + 2 * tol)) + reach * 0.5, a,
-         rel);
+         rel, &rel_ids);
   if (rel.size() < 6) {
     st.fail = "no data";
     return st;
@@ -208,12 +246,18 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
   const double w1 = st.partial ? t_c : t_c + h;
   const double sel = r_ref + 3.5 * tol;  // wide enough to see the band outside the surface (below)
   std::vector<Eigen::Vector3d> win;
-  for (const Eigen::Vector3d& q : rel) {
+  std::vector<std::uint32_t> win_ids;
+  for (std::size_t k = 0; k < rel.size(); ++k) {
+    const Eigen::Vector3d& q = rel[k];
     const double t = q.dot(u);
     if (t < w0 || t > w1) continue;
     const double dd = (q - u * t).norm();
-    if (dd <= sel && dd >= 0.3 * r_ref) win.push_back(q);
+    if (dd <= sel && dd >= 0.3 * r_ref) {
+      win.push_back(q);
+      win_ids.push_back(rel_ids[k]);
+    }
   }
+  drop_facing_away(ctx, win, win_ids, Eigen::Vector3d::Zero(), u);
   if (win.size() < 8) {
     st.fail = "no data";
     return st;

@@ -44,6 +44,10 @@ struct InspectParams {
   // next run while at least max(20, 3%) of them remain.
   double covered_radii = 3.0;
   double covered_min_mm = 15.0;
+  // Touching cables are traced again, each without the points nearer the other's fitted surface, when their
+  // first chains come within both radii + untangle_margin_mm (pipeline.cpp, "Touching cables").
+  bool untangle_touching = true;
+  double untangle_margin_mm = 2.0;
   BendRadiusParams bend;
   FilletRefineParams fillet;            // tight bends re-measured on the surface points
   PaperBendParams paper_bend;

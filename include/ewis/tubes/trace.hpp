@@ -29,6 +29,12 @@ struct TubeParams {
   // the sub-cable fit are then measured along the camera rays, the direction of the sensor's noise.
   bool has_sensor = false;
   Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();
+  // With the sensor: each fit leaves out the points whose surface normal (local PCA, turned towards the sensor)
+  // points against the direction from the axis to them (cosine below facing_min_cos). A solid tube's seen
+  // surface faces away from its axis; the sliver of a touching neighbour beside the contact (a bundle) lies
+  // within the tube's surface band but faces back towards its axis (cosine -0.4 to -0.9).
+  bool facing_check = true;
+  double facing_min_cos = 0.0;
 
   // Propagation (paper 4.2.4); <= 0: derived from the radius and the resolution.
   double step_mm = 0.0;               // sub-cable length (default: one radius, at least 4 x resolution)
