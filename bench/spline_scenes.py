@@ -16,12 +16,12 @@ This script builds such scenes independently of src/sim (numpy only):
     parameter grid), where it is, and the as-built centreline; bend defects are rules stricter than the
     as-built radius (allowed = radius / U(0.6, 0.85)), clean cables have allowed = radius / U(1.2, 1.6);
   - no clearance defects: routes are drawn again until every gap exceeds clearance + 2 mm.
-With --bundle each scene holds two cables tied side by side instead (the hard case "touching objects"): cable_B is
+With --bundle (or --bundle 3) each scene holds two (three) cables tied side by side instead (the hard case "touching objects"): cable_B is
 cable_A's sideways companion (each point moved horizontally, perpendicular to the tangent, by both radii + the gap),
 touching or up to 2 mm apart in odd scenes (a clearance defect at clearance 3 mm; the CAD keeps 4.5 mm) and 5-9 mm
 apart in even ones, held by shared connectors at both ends; the truth gap is the least distance between the two
 as-built centrelines less both radii, and each cable's truth radius comes from the companion's numerical
-derivatives. No bend defects there.
+derivatives; with 3, cable_C is the companion on A's other side (4-9 mm), its own gap to A. No bend defects there.
 Each scene is then scanned by `ewis simulate --cad scene.obj --plan plan.json --asbuilt asbuilt.obj
 --scene-truth scene_truth.json` (the project's scanner: noise along the rays, 40 % outliers, a perturbed
 pose.txt), which writes truth.json with the camera pose. Evaluate with `ewis evaluate --campaign OUT`.
@@ -208,7 +208,7 @@ def look_at(eye, target, up):
     return m
 
 
-def make_scene(rng, index, deviation_mm, bundle=False):
+def make_scene(rng, index, deviation_mm, bundle=0):
     plate_half = np.array([300.0, 200.0, 3.0])
     rigid = [("structure", (np.array([0, 0, -3.0]), np.eye(3), plate_half))]
     # ribs along the long edges, a cross rib at each end, blocks in two corners: features in every direction
@@ -221,11 +221,11 @@ def make_scene(rng, index, deviation_mm, bundle=False):
     rigid.append(("block_1", (np.array([-230.0, -140.0, 18.0]), rot, np.array([22.0, 14.0, 18.0]))))
     rigid.append(("block_2", (np.array([235.0, 135.0, 10.0]), np.eye(3), np.array([15.0, 25.0, 10.0]))))
 
-    ncables = 2 if bundle else int(rng.integers(1, 4))
+    ncables = bundle if bundle else int(rng.integers(1, 4))
     defect_scene = index % 2 == 1
     defect_cable = int(rng.integers(0, ncables)) if defect_scene and not bundle else -1
     if bundle:
-        return make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene)
+        return make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, bundle)
     cables, nominal_objs, built_objs, plan_elems, truth_cables, defects = [], [], [], [], [], []
     attached_objs = []
     lanes = rng.permutation([-95.0, 0.0, 95.0])[:ncables]
@@ -319,74 +319,99 @@ def make_scene(rng, index, deviation_mm, bundle=False):
                         "bend" if defect_scene else "none")
 
 
-def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene):
-    """Two cables side by side along their whole length (a bundle), cable_B the sideways companion of cable_A's
-    spline: touching or nearly (gap 0-2 mm, a clearance defect at clearance 3 mm) in odd scenes, 5-9 mm apart
-    in even ones. Shared connectors hold both ends (attached to both)."""
+def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, count=2):
+    """Cables side by side along their whole length (a bundle): cable_B the sideways companion of cable_A's spline,
+    cable_C (count 3) the companion on A's other side; each touching A or nearly (gap 0-2 mm, a clearance defect at
+    clearance 3 mm) in odd scenes, 5-9 mm from A in even ones. Shared connectors hold the ends (attached to all)."""
     clearance = 3.0
+    u = np.linspace(0, 1, 6001)
     for attempt in range(500):
         da = float(rng.choice([4.0, 5.5, 7.0, 9.0, 11.0]) + rng.uniform(-0.3, 0.3))
         db = float(rng.choice([4.0, 5.5, 7.0, 9.0, 11.0]) + rng.uniform(-0.3, 0.3))
-        ra, rb_ = da / 2, db / 2
-        gap = rng.uniform(0.0, clearance - 1.0) if defect_scene else rng.uniform(clearance + 2.0, clearance + 6.0)
-        offset = ra + rb_ + gap
+        ra = da / 2
+        side_d = [db]
+        side_gap = [rng.uniform(0.0, clearance - 1.0) if defect_scene else rng.uniform(clearance + 2.0, clearance + 6.0)]
         n_ctrl = int(rng.integers(6, 9))
         xs = np.linspace(-230, 230, n_ctrl) + np.concatenate([[0], rng.uniform(-25, 25, n_ctrl - 2), [0]])
         ys = rng.uniform(-30, 30) + np.concatenate([[0], rng.uniform(-40, 40, n_ctrl - 2), [0]])
-        zs = np.concatenate([[30.0], rng.uniform(20 + max(ra, rb_), 70, n_ctrl - 2), [30.0]])
+        r_max = max(ra, db / 2)
+        zs = np.concatenate([[30.0], rng.uniform(20 + r_max, 70, n_ctrl - 2), [30.0]])
         ctrl = np.stack([xs, ys, zs], axis=1)
         built = ctrl.copy()
         built[2:-2] += rng.uniform(-1, 1, (n_ctrl - 4, 3)) * deviation_mm
-        built[2:-2, 2] = np.maximum(built[2:-2, 2], 20 + max(ra, rb_))
-        rn_a, _ = min_radius(ctrl)
-        rb_a, loc_a = min_radius(built)
-        rn_b, _ = companion_min_radius(ctrl, offset)
-        rb_b, loc_b = companion_min_radius(built, offset)
-        if min(rn_a / da, rn_b / db) < 3.0 or min(rb_a / da, rb_b / db) < 2.5:
+        built[2:-2, 2] = np.maximum(built[2:-2, 2], 20 + r_max)
+        if count == 3:
+            side_d.append(float(rng.choice([4.0, 5.5, 7.0, 9.0]) + rng.uniform(-0.3, 0.3)))
+            side_gap.append(rng.uniform(0.0, clearance - 1.0) if defect_scene else
+                            rng.uniform(clearance + 2.0, clearance + 6.0))
+            r_max = max(r_max, side_d[1] / 2)
+            built[2:-2, 2] = np.maximum(built[2:-2, 2], 20 + r_max)
+        # cable_B at +offset (left of A's tangent, seen from above), cable_C at -offset
+        offsets = [ra + d / 2 + g for d, g in zip(side_d, side_gap)]
+        if count == 3:
+            offsets[1] = -offsets[1]
+        cables = [("cable_A", da, 0.0)] + [("cable_" + "BC"[k], side_d[k], offsets[k]) for k in range(count - 1)]
+        ok = True
+        routes = []
+        for name, d, off in cables:
+            if off == 0.0:
+                rn, _ = min_radius(ctrl)
+                rb, loc = min_radius(built)
+                pn, _ = resample(bspline(ctrl, u)[0], 0.5)
+                pb, length = resample(bspline(built, u)[0], 0.5)
+            else:
+                rn, _ = companion_min_radius(ctrl, off)
+                rb, loc = companion_min_radius(built, off)
+                pn, _ = resample(companion(ctrl, off, u)[0], 0.5)
+                pb, length = resample(companion(built, off, u)[0], 0.5)
+            if rn / d < 3.0 or rb / d < 2.5:
+                ok = False
+            if min(pb[:, 2].min(), pn[:, 2].min()) - d / 2 < clearance + 5.0:
+                ok = False  # gap to the plate above clearance + 2
+            if max(np.abs(pb[:, 1]).max(), np.abs(pn[:, 1]).max()) > 150:
+                ok = False
+            routes.append([name, d, off, rn, rb, loc, pn, pb, length])
+        if not ok:
             continue
-        u = np.linspace(0, 1, 6001)
-        pa_n, _ = resample(bspline(ctrl, u)[0], 0.5)
-        pa_b, len_a = resample(bspline(built, u)[0], 0.5)
-        pb_n, _ = resample(companion(ctrl, offset, u)[0], 0.5)
-        pb_b, len_b = resample(companion(built, offset, u)[0], 0.5)
-        low = min(pa_b[:, 2].min() - ra, pb_b[:, 2].min() - rb_, pa_n[:, 2].min() - ra, pb_n[:, 2].min() - rb_)
-        if low < clearance + 5.0:
-            continue  # gap to the plate above clearance + 2
-        if max(np.abs(pa_b[:, 1]).max(), np.abs(pb_b[:, 1]).max(), np.abs(pb_n[:, 1]).max()) > 150:
+        # the true gaps to A: the least distance between the as-built centrelines less both radii (a companion may
+        # come closer than its offset where the spline bends towards it)
+        gaps = [seg_dist(routes[0][7], r[7]) - ra - r[1] / 2 for r in routes[1:]]
+        nominal_gaps = [seg_dist(routes[0][6], r[6]) - ra - r[1] / 2 for r in routes[1:]]
+        if defect_scene and not all(0.0 <= g <= clearance - 1.0 for g in gaps):
             continue
-        # the true gap: the least distance between the two as-built centrelines less both radii (the companion
-        # may come closer than its offset where the spline bends towards it)
-        true_gap = seg_dist(pa_b, pb_b) - ra - rb_
-        nominal_gap = seg_dist(pa_n, pb_n) - ra - rb_
-        if defect_scene and not (0.0 <= true_gap <= clearance - 1.0):
+        if not defect_scene and not all(g >= clearance + 2.0 for g in gaps):
             continue
-        if not defect_scene and (true_gap < clearance + 2.0 or nominal_gap < clearance + 0.5):
+        if not defect_scene and not all(g >= clearance + 0.5 for g in nominal_gaps):
             continue
         break
     else:
         raise RuntimeError("no bundle route found")
     if defect_scene:
         # the nominal (CAD) bundle keeps the clearance; the as-built one was tied tighter
-        wide = ra + rb_ + clearance + 1.5
-        pb_n, _ = resample(companion(ctrl, wide, np.linspace(0, 1, 6001))[0], 0.5)
+        for r in routes[1:]:
+            wide = (ra + r[1] / 2 + clearance + 1.5) * (1.0 if r[2] > 0 else -1.0)
+            r[6], _ = resample(companion(ctrl, wide, u)[0], 0.5)
     attached_objs, attached = [], []
-    for end, (pa, pbb) in enumerate([(pa_b[0], pb_b[0]), (pa_b[-1], pb_b[-1])]):
+    pa_b = routes[0][7]
+    for end in (0, 1):
+        k = 0 if end == 0 else -1
         t = (pa_b[1] - pa_b[0]) if end == 0 else (pa_b[-2] - pa_b[-1])
         t = -t / np.linalg.norm(t)
-        mid = 0.5 * (pa + pbb)
-        side = pbb - pa
+        ends = np.array([r[7][k] for r in routes])
+        mid = 0.5 * (ends.min(axis=0) + ends.max(axis=0)) if count == 2 else ends[0]
+        side = ends[1] - ends[0]
         side -= (side @ t) * t
         side /= np.linalg.norm(side)
         axes = np.stack([t, side, np.cross(t, side)])
-        half_side = 0.5 * np.linalg.norm(pbb - pa) + max(ra, rb_) + 6.0
-        cname = "connector_AB%d" % (end + 1)
-        attached_objs.append((cname, (mid + t * (12.0 - 8.0), axes, np.array([12.0, half_side, max(ra, rb_) + 6.0]))))
+        reach = 0.5 * np.linalg.norm(ends[1] - ends[0]) if count == 2 else max(abs((e - mid) @ side) for e in ends)
+        half_side = reach + r_max + 6.0
+        cname = "connector_%s%d" % ("AB" if count == 2 else "ABC", end + 1)
+        attached_objs.append((cname, (mid + t * (12.0 - 8.0), axes, np.array([12.0, half_side, r_max + 6.0]))))
         attached.append(cname)
-    nominal_objs = [("cable_A", tube_mesh(pa_n, ra)), ("cable_B", tube_mesh(pb_n, rb_))]
-    built_objs = [("cable_A", tube_mesh(pa_b, ra)), ("cable_B", tube_mesh(pb_b, rb_))]
+    nominal_objs = [(r[0], tube_mesh(r[6], r[1] / 2)) for r in routes]
+    built_objs = [(r[0], tube_mesh(r[7], r[1] / 2)) for r in routes]
     plan_elems, truth_cables, defects = [], [], []
-    for name, d, rbuilt, rnom, loc, pts, length in (("cable_A", da, rb_a, rn_a, loc_a, pa_b, len_a),
-                                                   ("cable_B", db, rb_b, rn_b, loc_b, pb_b, len_b)):
+    for name, d, off, rnom, rbuilt, loc, pn, pts, length in routes:
         allowed = rbuilt / rng.uniform(1.2, 1.6)
         plan_elems.append({"name": name, "kind": "cable", "diameter_mm": round(d, 3),
                            "min_bend_radius_mm": round(allowed, 2), "clearance_mm": clearance, "attached": attached})
@@ -397,10 +422,11 @@ def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene):
                              "attached": attached, "length_mm": round(length, 4),
                              "centerline": [[round(x, 4) for x in p] for p in pts[::2]]})
     if defect_scene:
-        defects.append({"kind": "clearance", "element": "cable_A", "with": "cable_B", "gap_mm": round(true_gap, 4)})
-    for (name, r, pts) in (("cable_A", ra, pa_b), ("cable_B", rb_, pb_b)):
+        for r, g in zip(routes[1:], gaps):
+            defects.append({"kind": "clearance", "element": "cable_A", "with": r[0], "gap_mm": round(g, 4)})
+    for r in routes:
         for (rname, box) in rigid:
-            if point_box_distance(pts, *box).min() < r + clearance + 2.0:
+            if point_box_distance(r[7], *box).min() < r[1] / 2 + clearance + 2.0:
                 return None
     return finish_scene(rng, index, rigid, attached_objs, nominal_objs, built_objs, plan_elems, truth_cables, defects,
                         "clearance" if defect_scene else "none")
@@ -433,8 +459,8 @@ def main():
     ap.add_argument("--deviation-mm", type=float, default=6.0)
     ap.add_argument("--noise-mm", type=float, default=None)
     ap.add_argument("--outliers", type=float, default=None)
-    ap.add_argument("--bundle", action="store_true",
-                    help="two cables side by side (touching or nearly in odd scenes: clearance defects)")
+    ap.add_argument("--bundle", type=int, nargs="?", const=2, default=0, choices=[2, 3],
+                    help="2 or 3 cables side by side (touching or nearly in odd scenes: clearance defects)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     for i in range(a.scenes):

@@ -367,6 +367,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     const FilletFit rival = fit_fillet(over, start, params.fit);
     const double ratio = 2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_cost) / sigma2;
     if (!(ratio >= params.smooth_min_log_likelihood_ratio)) return;
+    // A peak more than 1 / smooth_min_fillet_ratio times the fillet's curvature on the same points is the quartic
+    // wiggling, not a bend (see FilletRefineParams::smooth_min_fillet_ratio).
+    if (!(R >= params.smooth_min_fillet_ratio * rival.model.bend_radius_mm)) return;
     o.smooth = true;
     o.smooth_fit = sf;
   };

@@ -124,6 +124,13 @@ struct FilletRefineParams {
   // wider tube holds points of something else (campaign scene_113: a run's end by a connector, 7.35 for 6.75 mm,
   // read a 71.3 mm helix at 64.4 mm)
   double smooth_tube_radius_tolerance = 0.05;
+  // ... and only when its peak radius is at least this fraction of the fillet's refitted on the same points: a
+  // curvature that rises and falls within the window peaks at about 1.5 (a quadratic profile) to 2 (a triangle)
+  // times the window's mean, which the fillet reads. Over 351 smooth fits taken on 70 spline scenes the ratio was
+  // 0.63-1.0; at a run's end by a connector, where the seen arc narrows to the cable's top strip, a quartic bent its
+  // axis to follow it and read 130 mm for a 244 mm cable (fillet 307 mm: 0.42), a false bend alarm
+  // (bench/spline_scenes.py --bundle 3, seed 7, scene_012).
+  double smooth_min_fillet_ratio = 0.5;
   SmoothTubeFitParams smooth_fit;
 };
 
