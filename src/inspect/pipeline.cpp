@@ -187,40 +187,48 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   // One BVH of the whole scene: which CAD samples the sensor sees (the trace's starts), and later what hides a point
   // from it (interference).
   const Raycaster caster(scene);
-  // A cable's runs, traced from its registered CAD samples on the points `base` allows.
-  const auto trace_runs = [&](std::size_t c, const std::vector<std::uint8_t>& base) {
-    std::vector<TubeTrace> runs;
-    const PlanElement& pe = *cable_plans[c];
-    const int element = scene.find(pe.name);
-    const double radius = 0.5 * pe.diameter_mm;
-
+  // Each cable's registered CAD samples, and which of them the sensor sees (the CAD seen from the sensor: nothing,
+  // the cable itself included, in front). The seen ones seed first: around a sample on the cable's underside or
+  // flank the fullest sphere lies in the mixed pixels hanging below its silhouette or where a touching neighbour
+  // meets it, and a start there fails (every start of a cable lying beside another failed so, and the cable was not
+  // found).
+  struct CadSeeds {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<std::uint8_t> seen;
+  };
+  const auto cad_seeds = [&](std::size_t c) {
+    CadSeeds out;
+    const double radius = 0.5 * cable_plans[c]->diameter_mm;
     MeshSamplingParams sp;
     sp.spacing_mm = params.cable_sample_spacing_mm > 0 ? params.cable_sample_spacing_mm : std::max(0.5, radius / 2);
-    sp.elements = {element};
+    sp.elements = {scene.find(cable_plans[c]->name)};
     sp.seed = 1 + c;
     sp.max_points = 200000;
     const MeshSamples samples = sample_mesh(scene, sp);
-    std::vector<Eigen::Vector3d> cad_points;
-    cad_points.reserve(samples.cloud.size());
-    for (const auto& p : samples.cloud.points) cad_points.push_back(p.cast<double>());
-    // The samples the sensor sees (the CAD seen from the sensor: nothing, the cable itself included, in front)
-    // seed first: around a sample on the cable's underside or flank the fullest sphere lies in the mixed pixels
-    // hanging below its silhouette or where a touching neighbour meets it, and a start there fails (every start
-    // of a cable lying beside another failed so, and the cable was not found).
-    std::vector<std::uint8_t> seen(cad_points.size(), 0);
-    {
-      std::vector<Ray> rays(cad_points.size());
-      for (std::size_t i = 0; i < cad_points.size(); ++i) {
-        const Eigen::Vector3d d = cad_points[i] - res.sensor_position;
-        rays[i].origin = res.sensor_position.cast<float>();
-        rays[i].direction = d.normalized().cast<float>();
-        rays[i].tmax_mm = float(d.norm() + 1.0);
-      }
-      std::vector<Hit> hits;
-      caster.cast(rays, hits);
-      for (std::size_t i = 0; i < cad_points.size(); ++i)
-        seen[i] = hits[i].hit() && hits[i].distance_mm >= rays[i].tmax_mm - 1.0f - kSeenToleranceMm;
+    out.points.reserve(samples.cloud.size());
+    for (const auto& p : samples.cloud.points) out.points.push_back(p.cast<double>());
+    std::vector<Ray> rays(out.points.size());
+    for (std::size_t i = 0; i < out.points.size(); ++i) {
+      const Eigen::Vector3d d = out.points[i] - res.sensor_position;
+      rays[i].origin = res.sensor_position.cast<float>();
+      rays[i].direction = d.normalized().cast<float>();
+      rays[i].tmax_mm = float(d.norm() + 1.0);
     }
+    std::vector<Hit> hits;
+    caster.cast(rays, hits);
+    out.seen.resize(out.points.size());
+    for (std::size_t i = 0; i < out.points.size(); ++i)
+      out.seen[i] = hits[i].hit() && hits[i].distance_mm >= rays[i].tmax_mm - 1.0f - kSeenToleranceMm;
+    return out;
+  };
+  std::vector<CadSeeds> seeds_of(cable_plans.size());
+  // A cable's runs, traced from its CAD samples on the points `base` allows.
+  const auto trace_runs = [&](std::size_t c, const std::vector<std::uint8_t>& base) {
+    std::vector<TubeTrace> runs;
+    const PlanElement& pe = *cable_plans[c];
+    const double radius = 0.5 * pe.diameter_mm;
+    const std::vector<Eigen::Vector3d>& cad_points = seeds_of[c].points;
+    const std::vector<std::uint8_t>& seen = seeds_of[c].seen;
     // Attached elements end the run (CONTRACT "attached").
     std::vector<int> attached_rigid, attached_cable;
     for (const std::string& a : pe.attached) {
@@ -298,6 +306,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     ci.allowed_bend_radius_mm = pe.allowed_bend_radius_mm();
     ci.bend_reference = pe.bend_reference;
     ci.clearance_mm = pe.clearance_mm;
+    seeds_of[c] = cad_seeds(c);
     ci.runs = trace_runs(c, usable);
   }
   // Touching cables (a bundle tied together, one cable lying on another): traced alone, a cable takes in the

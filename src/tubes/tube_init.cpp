@@ -115,7 +115,7 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
       win_ids.push_back(ids[k]);
     }
   }
-  drop_facing_away(ctx, win, win_ids, Eigen::Vector3d::Zero(), u);
+  drop_facing_away(ctx, win, win_ids, u);
   CylinderFitParams fp = ctx.fit_params(r, est.center);
   fp.max_radius_mm = 3.0 * r;
   const CylinderFitResult fit = fit_cylinder(win, Eigen::Vector3d::Zero(), u, r, fp);

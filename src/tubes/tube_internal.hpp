@@ -40,11 +40,11 @@ void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Ei
             std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>* ids = nullptr);
 
 // TubeParams::facing_check: drops from `win` (relative to the gather origin, ids alongside) the points whose
-// normal points against the direction from the axis (through `axis_point` along unit `axis`, same frame) to them.
-// Nothing is dropped without a sensor, or when the check would leave fewer than half the points (normals
-// smeared across a tube only a few points wide).
+// normal points against the direction from the axis (through that origin along unit `axis`) to them. Nothing is
+// dropped without a sensor, or when the check would leave fewer than half the points (normals smeared across a
+// tube only a few points wide).
 void drop_facing_away(Context& ctx, std::vector<Eigen::Vector3d>& win, std::vector<std::uint32_t>& ids,
-                      const Eigen::Vector3d& axis_point, const Eigen::Vector3d& axis);
+                      const Eigen::Vector3d& axis);
 
 // paper 4.2.2: the fullest candidate cylinder (axis through the origin of `rel`, radius r) among the
 // directions `dirs` rotated onto `around`; counts points in the shell |dist - r| <= tol with t in [t0, t1].

@@ -35,7 +35,7 @@ void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Ei
 }
 
 void drop_facing_away(Context& ctx, std::vector<Eigen::Vector3d>& win, std::vector<std::uint32_t>& ids,
-                      const Eigen::Vector3d& axis_point, const Eigen::Vector3d& axis) {
+                      const Eigen::Vector3d& axis) {
   if (!ctx.params.has_sensor || !ctx.params.facing_check || win.size() != ids.size() || win.empty()) return;
   std::vector<std::uint32_t> missing;
   for (std::uint32_t i : ids)
@@ -50,8 +50,7 @@ void drop_facing_away(Context& ctx, std::vector<Eigen::Vector3d>& win, std::vect
   std::vector<char> keep(win.size(), 1);
   std::size_t kept = 0;
   for (std::size_t k = 0; k < win.size(); ++k) {
-    const Eigen::Vector3d v = win[k] - axis_point;
-    const Eigen::Vector3d radial = v - axis * axis.dot(v);
+    const Eigen::Vector3d radial = win[k] - axis * axis.dot(win[k]);
     const Eigen::Vector3f& n = ctx.normals.at(ids[k]);
     const double len = radial.norm();
     // an undefined normal (0, 0, 0) or a point on the axis: no evidence either way
@@ -257,7 +256,7 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
       win_ids.push_back(rel_ids[k]);
     }
   }
-  drop_facing_away(ctx, win, win_ids, Eigen::Vector3d::Zero(), u);
+  drop_facing_away(ctx, win, win_ids, u);
   if (win.size() < 8) {
     st.fail = "no data";
     return st;

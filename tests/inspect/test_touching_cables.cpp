@@ -9,6 +9,7 @@
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/scene/primitives.hpp"
 #include "ewis/sim/sensor.hpp"
+#include "ewis/tubes/trace.hpp"
 #include "paths.hpp"
 
 using namespace ewis;
@@ -22,12 +23,6 @@ struct Bundle {
   Pose camera_to_cad;
   double length_a_mm = 0, length_b_mm = 0;
 };
-
-double polyline_length(const std::vector<Eigen::Vector3d>& p) {
-  double s = 0;
-  for (std::size_t i = 1; i < p.size(); ++i) s += (p[i] - p[i - 1]).norm();
-  return s;
-}
 
 // A (d 5.6) runs straight, bends by 60 deg at R 120 and runs straight again, 25 mm over a plate; B (d 4) runs
 // beside it at `gap_mm` (the arc concentric), towards the bend's outside. Sensor 600 mm above.
