@@ -379,7 +379,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     }, 1);
   }
 
-  // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on radius + 2 se.
+  // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on
+  // radius + choice_se_factor x se: a loose arc wins over a tighter one only when it is tighter even then.
   int refined = 0;
   double best_score = std::numeric_limits<double>::infinity();
   std::optional<double> best_radius;
@@ -410,8 +411,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const double half = 0.5 * m.turn_rad();
       where = m.vertex + bis * (r / std::cos(half) - r);  // the arc's middle
     }
-    if (r + 2.0 * se < best_score) {
-      best_score = r + 2.0 * se;
+    const double score = r + params.choice_se_factor * se;
+    if (score < best_score) {
+      best_score = score;
       best_radius = r;
       best_se = se;
       best_location = where;
