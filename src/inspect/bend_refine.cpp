@@ -86,6 +86,25 @@ std::vector<Eigen::Vector3d> scan_points_near(const FilletScan& scan, const Eige
   return out;
 }
 
+// Whether x, on a tube around the centreline whose distance `dist` measures, faces the sensor: the outward
+// direction from the axis (the distance's gradient) turned towards it by a cosine of at least min_cos (see
+// FilletRefineParams::facing_min_cos). Always true without a sensor.
+template <class Dist>
+bool faces_sensor(const FilletScan& scan, const Dist& dist, const Eigen::Vector3d& x, double min_cos) {
+  if (!scan.has_sensor) return true;
+  constexpr double h = 1e-3;
+  Eigen::Vector3d g;
+  for (int a = 0; a < 3; ++a) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[a] = h;
+    g[a] = dist(x + e) - dist(x - e);
+  }
+  const Eigen::Vector3d v = scan.sensor_position - x;
+  const double gn = g.norm(), vn = v.norm();
+  if (!(gn > 0) || !(vn > 0)) return true;
+  return g.dot(v) >= min_cos * gn * vn;
+}
+
 struct Candidate {
   std::size_t profile = 0;
   double half_window_mm = 0.0;
@@ -221,7 +240,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const double band = regather_band(params, o.fit.sigma_mm, tube_radius_mm);
       std::vector<Eigen::Vector3d> again = scan_points_near(
           scan, m1.vertex, cands[k].half_window_mm + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
-            return std::abs(fillet_centreline_distance(m1, x) - m1.tube_radius_mm) <= band;
+            const auto dist = [&](const Eigen::Vector3d& y) { return fillet_centreline_distance(m1, y); };
+            return std::abs(dist(x) - m1.tube_radius_mm) <= band && faces_sensor(scan, dist, x, params.facing_min_cos);
           });
       const FilletFit second = fit_fillet(again, m1, params.fit);
       if (second.ok) {
@@ -329,7 +349,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         const double band = regather_band(params, sf.sigma_mm, tube_radius_mm);
         std::vector<Eigen::Vector3d> again = scan_points_near(
             scan, m1.origin, std::hypot(m1.half_chord_mm, h) + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
-              return m1.over_chord(x) && std::abs(smooth_tube_centreline_distance(m1, x) - m1.tube_radius_mm) <= band;
+              const auto dist = [&](const Eigen::Vector3d& y) { return smooth_tube_centreline_distance(m1, y); };
+              return m1.over_chord(x) && std::abs(dist(x) - m1.tube_radius_mm) <= band &&
+                     faces_sensor(scan, dist, x, params.facing_min_cos);
             });
         const SmoothTubeFit second = fit_smooth_tube_from(again, m1, params.smooth_fit);
         if (!second.ok) return;

@@ -416,6 +416,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       fs.cloud = &cloud;
       fs.tree = &tree;
       fs.usable = &usable;
+      fs.has_sensor = res.sensor_at_scan_origin;
+      fs.sensor_position = res.sensor_position;
       refine_bends_with_fillets(b, ci.runs[k].centerline, surface, ci.runs[k].radius_mm, ci.nominal_diameter_mm,
                                 params.fillet, fs);
       const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
