@@ -234,6 +234,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (point_arc[i] >= s0 && point_arc[i] <= s1) pts.push_back(surface_points[i]);
     Outcome& o = outcomes[k];
     o.fit = fit_fillet(pts, init, params.fit);
+    std::vector<double> scales;  // each point's noise relative to the others' (empty: the same for all)
     if (params.regather && scan.cloud && scan.tree && o.fit.ok) {
       // Again on the scan points around the first fit's surface (the corner's apex included).
       const FilletModel& m1 = o.fit.model;
@@ -243,10 +244,13 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
             const auto dist = [&](const Eigen::Vector3d& y) { return fillet_centreline_distance(m1, y); };
             return std::abs(dist(x) - m1.tube_radius_mm) <= band && faces_sensor(scan, dist, x, params.facing_min_cos);
           });
-      const FilletFit second = fit_fillet(again, m1, params.fit);
+      std::vector<double> again_scales;
+      if (scan.has_sensor && params.ray_noise_weights) again_scales = ray_noise_scales(again, m1, scan.sensor_position);
+      const FilletFit second = fit_fillet(again, m1, params.fit, again_scales.empty() ? nullptr : &again_scales);
       if (second.ok) {
         o.fit = second;
         pts.swap(again);
+        scales.swap(again_scales);
       }
     }
     FilletFit& f = o.fit;
@@ -274,12 +278,13 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     held.fit_bend_radius = false;
     const double c = params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
     const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
-    const double best_cost = fillet_robust_cost(pts, f.model, c);
+    const std::vector<double>* sc = scales.empty() ? nullptr : &scales;
+    const double best_cost = fillet_robust_cost(pts, f.model, c, sc);
     // 2 x the robust cost's rise over the free fit's, held at radius r: a likelihood ratio (chi-square, 1 dof).
     auto ratio_at = [&](double r) {
       FilletModel start = f.model;
       start.bend_radius_mm = r;
-      return 2.0 * (fillet_robust_cost(pts, fit_fillet(pts, start, held).model, c) - best_cost) / sigma2;
+      return 2.0 * (fillet_robust_cost(pts, fit_fillet(pts, start, held, sc).model, c, sc) - best_cost) / sigma2;
     };
     const double circle_r = std::clamp(p.radius_mm, f.model.tube_radius_mm, 100.0 * diameter_mm);
     if (ratio_at(circle_r) < params.min_log_likelihood_ratio) return;

@@ -39,11 +39,70 @@ FilletModel apply(const FilletModel& base, const Vec& x) {
 
 }  // namespace
 
-double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm) {
+double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm,
+                          const std::vector<double>* noise_scale) {
   double s = 0;
-  for (const Eigen::Vector3d& p : points)
-    s += cauchy_rho(fillet_centreline_distance(model, p) - model.tube_radius_mm, scale_mm);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double r = fillet_centreline_distance(model, points[i]) - model.tube_radius_mm;
+    s += cauchy_rho(noise_scale ? r / (*noise_scale)[i] : r, scale_mm);
+  }
   return s;
+}
+
+std::vector<double> ray_noise_scales(const std::vector<Eigen::Vector3d>& points, const FilletModel& model,
+                                     const Eigen::Vector3d& sensor) {
+  const std::size_t n = points.size();
+  std::vector<double> scale(n, 1.0);
+  if (n < 40) return scale;
+  // Each point's residual and cos^2 of its incidence (the outward normal: the distance's gradient).
+  std::vector<double> res(n), c2(n);
+  constexpr double h = 1e-3;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = points[i];
+    Eigen::Vector3d g;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3d e = Eigen::Vector3d::Zero();
+      e[a] = h;
+      g[a] = fillet_centreline_distance(model, p + e) - fillet_centreline_distance(model, p - e);
+    }
+    const Eigen::Vector3d v = sensor - p;
+    const double gv = g.norm() * v.norm();
+    const double c = gv > 0 ? g.dot(v) / gv : 1.0;
+    c2[i] = c * c;
+    res[i] = fillet_centreline_distance(model, p) - model.tube_radius_mm;
+  }
+  // Robust variance in four bins of cos^2 (by rank), then variance = a + b cos^2 by least squares, a, b >= 0.
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return c2[x] < c2[y]; });
+  constexpr int kBins = 4;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  std::vector<double> bin, tmp;
+  for (int b = 0; b < kBins; ++b) {
+    const std::size_t lo = n * b / kBins, hi = n * (b + 1) / kBins;
+    bin.clear();
+    double mean_c2 = 0;
+    for (std::size_t k = lo; k < hi; ++k) {
+      bin.push_back(res[order[k]]);
+      mean_c2 += c2[order[k]];
+    }
+    mean_c2 /= double(hi - lo);
+    const double sd = robust_sigma(bin, 1e-6, tmp);
+    sx += mean_c2, sy += sd * sd, sxx += mean_c2 * mean_c2, sxy += mean_c2 * sd * sd;
+  }
+  const double den = kBins * sxx - sx * sx;
+  double b = den > 1e-12 ? (kBins * sxy - sx * sy) / den : 0.0;
+  double a = (sy - b * sx) / kBins;
+  if (b < 0) b = 0, a = sy / kBins;
+  if (a < 0) a = 0, b = sxx > 0 ? sxy / sxx : 0.0;
+  const double face_on = a + b;
+  if (!(face_on > 0) || !(b > 0)) return scale;
+  for (std::size_t i = 0; i < n; ++i) scale[i] = std::sqrt(std::max(a + b * c2[i], 0.25 * face_on));
+  tmp = scale;
+  const double mid = median_in_place(tmp);
+  if (mid > 0)
+    for (double& s : scale) s /= mid;
+  return scale;
 }
 
 double FilletModel::turn_rad() const {
@@ -79,9 +138,13 @@ double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p
 }
 
 FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
-                     const FilletFitParams& params) {
+                     const FilletFitParams& params, const std::vector<double>* noise_scale) {
   FilletFit out;
-  const std::vector<Eigen::Vector3d> pts = pick(surface_points, evenly_strided(surface_points.size(), params.max_points));
+  const std::vector<std::uint32_t> picked = evenly_strided(surface_points.size(), params.max_points);
+  const std::vector<Eigen::Vector3d> pts = pick(surface_points, picked);
+  std::vector<double> inv_scale(pts.size(), 1.0);
+  if (noise_scale && noise_scale->size() == surface_points.size())
+    for (std::size_t i = 0; i < pts.size(); ++i) inv_scale[i] = 1.0 / std::max((*noise_scale)[picked[i]], 1e-6);
   const std::size_t n = pts.size();
   out.points = n;
   if (n < 3 * kParams || !(initial.bend_radius_mm > 0) || !(initial.tube_radius_mm > 0)) return out;
@@ -91,7 +154,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
   model.leg2.normalize();
   std::vector<double> res(n), tmp;
   auto residuals = [&](const FilletModel& m, std::vector<double>& r) {
-    for (std::size_t i = 0; i < n; ++i) r[i] = fillet_centreline_distance(m, pts[i]) - m.tube_radius_mm;
+    for (std::size_t i = 0; i < n; ++i) r[i] = (fillet_centreline_distance(m, pts[i]) - m.tube_radius_mm) * inv_scale[i];
   };
   auto sigma_of = [&](const std::vector<double>& r) { return robust_sigma(r, params.min_noise_mm, tmp); };
   auto cost_of = [&](const std::vector<double>& r, double c) {

@@ -50,12 +50,25 @@ struct FilletFit {
 
 // Sum of the Cauchy costs (scale `scale_mm`) of the surface residuals of `points` against the model: two models
 // compare on the same points and scale (a likelihood ratio under a robust noise model).
-double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm);
+// `noise_scale` (optional, one per point): each residual is divided by it (a point's noise relative to the others',
+// see ray_noise_scales).
+double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm,
+                          const std::vector<double>* noise_scale = nullptr);
 
 // Least-squares fit (Levenberg-Marquardt, Cauchy-weighted) of the swept fillet to surface points, from `initial`.
 // Deterministic.
+// Deterministic. With `noise_scale` (one per point) the residuals are divided by it: a weighted fit, whose sigma and
+// standard error are those of the scaled residuals.
 FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
-                     const FilletFitParams& params = {});
+                     const FilletFitParams& params = {}, const std::vector<double>* noise_scale = nullptr);
+
+// The noise of each point relative to the others' (median 1) on a tube fitted by `model`, seen from `sensor`: a
+// structured-light sensor's noise lies along its rays, so across the surface a point's residual spreads as
+// sigma x cos(incidence) where the surface turns away, and isotropic noise spreads the same everywhere. Both
+// parts are measured on the residuals (variance = a + b cos^2, a, b >= 0, from the robust spreads in four bins of
+// cos^2); the scale is sqrt(variance), at least half that of a point seen face on (weights at most 4x).
+std::vector<double> ray_noise_scales(const std::vector<Eigen::Vector3d>& points, const FilletModel& model,
+                                     const Eigen::Vector3d& sensor);
 
 
 
@@ -113,6 +126,9 @@ struct FilletRefineParams {
   // tenths of a mm of the tube's surface and all on one side of it: 55 such points of 1774 (3 %) read campaign
   // scene_059's 41.85 mm bend at 38.72 +- 0.93 mm with a tube 0.25 mm too fat; without them 41.59 +- 0.74.
   double facing_min_cos = 0.0;
+  // ... and weighs each point by its noise across the surface (ray_noise_scales: a structured-light sensor's noise
+  // lies along its rays, so a point where the tube turns away from the sensor is placed more precisely across it).
+  bool ray_noise_weights = true;
   FilletFitParams fit;
   // Smooth bends. A cable routed along a spline bends with a curvature that rises and falls; the line-arc-line
   // model (and the circle windows) average its peak away (bench/spline_scenes.py: 0 of 33 bends within 5 %, all
