@@ -119,32 +119,34 @@ TEST(FilletFit, RayNoiseScalesFollowTheIncidence) {
   }
 }
 
-// A short arc of a thin cable (15 deg at 40 mm, 3 mm cable, 0.2 mm noise along the rays): weighted by the noise
-// across the surface, the fit reads the radius closer to the truth than unweighted (rms error -11 %), and its
-// standard error says so (-26 %; both still over-cover: the rms error is 0.75 of the mean se).
+// A short arc of a thin cable (15 deg at 40 mm, 3 mm cable, 0.2 mm noise along the rays, 800 points: about what a
+// scan holds there): weighted by the noise across the surface, the fit reads the radius closer to the truth than
+// unweighted, and its standard error says so. Over 60 draws the rms error fell 17 % (1.88 -> 1.56 mm; 19 % over 200)
+// and the mean standard error 26 % (2.31 -> 1.72 mm).
 TEST(FilletFit, WeightsByRayNoiseNarrowTheFit) {
   const Eigen::Vector3d sensor(0, 0, 600);
+  FilletFitParams fp;
+  fp.max_points = 800;
   double e2_plain = 0, e2_weighted = 0, se_plain = 0, se_weighted = 0;
-  const int draws = 30;
+  const int draws = 60;
   for (int seed = 1; seed <= draws; ++seed) {
     FilletModel truth;
-    const auto pts = bent_tube(1.5, 40.0, 15.0, 9.0, 0.2, 0.0, 300 + seed, &truth);
+    const auto pts = bent_tube(1.5, 40.0, 15.0, 9.0, 0.2, 0.0, 1000 + seed, &truth);
     FilletModel init = truth;
     init.vertex += Eigen::Vector3d(0.3, -0.2, 0.1);
     init.bend_radius_mm = 1.3 * truth.bend_radius_mm;
-    const FilletFit plain = fit_fillet(pts, init);
+    const FilletFit plain = fit_fillet(pts, init, fp);
     ASSERT_TRUE(plain.ok);
     const std::vector<double> scale = ray_noise_scales(pts, plain.model, sensor);
-    const FilletFit weighted = fit_fillet(pts, plain.model, {}, &scale);
+    const FilletFit weighted = fit_fillet(pts, plain.model, fp, &scale);
     ASSERT_TRUE(weighted.ok);
     e2_plain += std::pow(plain.model.bend_radius_mm - 40.0, 2);
     e2_weighted += std::pow(weighted.model.bend_radius_mm - 40.0, 2);
     se_plain += plain.bend_radius_se_mm;
     se_weighted += weighted.bend_radius_se_mm;
   }
-  const double rms_plain = std::sqrt(e2_plain / draws), rms_weighted = std::sqrt(e2_weighted / draws);
-  EXPECT_LT(rms_weighted, 0.95 * rms_plain);  // 0.824 -> 0.735 mm
-  EXPECT_LT(se_weighted, 0.85 * se_plain);     // 1.316 -> 0.978 mm
+  EXPECT_LT(std::sqrt(e2_weighted / e2_plain), 0.92);
+  EXPECT_LT(se_weighted, 0.85 * se_plain);
 }
 
 // A short tight bend: 17 deg at 2 diameters (an arc of 0.6 diameter). Its centreline leaves the legs' corner by
@@ -289,7 +291,7 @@ TEST(FilletRefine, MixedPixelsUnderACableOnAPlateAreLeftOut) {
   t.arc(truth, 28.2, t.dir.cross(-Eigen::Vector3d::UnitZ()));
   const std::size_t apex = t.points.size() - std::size_t(0.5 * truth * 28.2 * M_PI / 180.0 / t.step) - 1;
   t.straight(100);
-  const int draws = 8;
+  const int draws = 4;
   for (const double flank : {1.0, -1.0}) {  // the bend's outer flank, then its inner one
     double sum_with = 0.0, sum_without = 0.0;
     for (std::uint32_t seed = 1; seed <= draws; ++seed) {
