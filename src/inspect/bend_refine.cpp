@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "ewis/core/parallel.hpp"
+#include "ewis/inspect/distance_gradient.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/search/kdtree.hpp"
 
@@ -87,22 +88,11 @@ std::vector<Eigen::Vector3d> scan_points_near(const FilletScan& scan, const Eige
 }
 
 // Whether x, on a tube around the centreline whose distance `dist` measures, faces the sensor: the outward
-// direction from the axis (the distance's gradient) turned towards it by a cosine of at least min_cos (see
+// direction from the axis turned towards it by a cosine of at least min_cos (see
 // FilletRefineParams::facing_min_cos). Always true without a sensor.
 template <class Dist>
 bool faces_sensor(const FilletScan& scan, const Dist& dist, const Eigen::Vector3d& x, double min_cos) {
-  if (!scan.has_sensor) return true;
-  constexpr double h = 1e-3;
-  Eigen::Vector3d g;
-  for (int a = 0; a < 3; ++a) {
-    Eigen::Vector3d e = Eigen::Vector3d::Zero();
-    e[a] = h;
-    g[a] = dist(x + e) - dist(x - e);
-  }
-  const Eigen::Vector3d v = scan.sensor_position - x;
-  const double gn = g.norm(), vn = v.norm();
-  if (!(gn > 0) || !(vn > 0)) return true;
-  return g.dot(v) >= min_cos * gn * vn;
+  return !scan.has_sensor || facing_cosine(dist, x, scan.sensor_position) >= min_cos;
 }
 
 struct Candidate {

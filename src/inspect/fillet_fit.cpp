@@ -9,6 +9,7 @@
 
 #include "ewis/core/cloud.hpp"
 #include "ewis/core/robust.hpp"
+#include "ewis/inspect/distance_gradient.hpp"
 
 namespace ewis {
 namespace {
@@ -41,10 +42,11 @@ FilletModel apply(const FilletModel& base, const Vec& x) {
 
 double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm,
                           const std::vector<double>* noise_scale) {
+  if (noise_scale && noise_scale->size() != points.size()) noise_scale = nullptr;
   double s = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double r = fillet_centreline_distance(model, points[i]) - model.tube_radius_mm;
-    s += cauchy_rho(noise_scale ? r / (*noise_scale)[i] : r, scale_mm);
+    s += cauchy_rho(noise_scale ? r / std::max((*noise_scale)[i], 1e-6) : r, scale_mm);
   }
   return s;
 }
@@ -56,20 +58,11 @@ std::vector<double> ray_noise_scales(const std::vector<Eigen::Vector3d>& points,
   if (n < 40) return scale;
   // Each point's residual and cos^2 of its incidence (the outward normal: the distance's gradient).
   std::vector<double> res(n), c2(n);
-  constexpr double h = 1e-3;
+  const auto dist = [&](const Eigen::Vector3d& y) { return fillet_centreline_distance(model, y); };
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d& p = points[i];
-    Eigen::Vector3d g;
-    for (int a = 0; a < 3; ++a) {
-      Eigen::Vector3d e = Eigen::Vector3d::Zero();
-      e[a] = h;
-      g[a] = fillet_centreline_distance(model, p + e) - fillet_centreline_distance(model, p - e);
-    }
-    const Eigen::Vector3d v = sensor - p;
-    const double gv = g.norm() * v.norm();
-    const double c = gv > 0 ? g.dot(v) / gv : 1.0;
+    const double c = facing_cosine(dist, points[i], sensor);
     c2[i] = c * c;
-    res[i] = fillet_centreline_distance(model, p) - model.tube_radius_mm;
+    res[i] = dist(points[i]) - model.tube_radius_mm;
   }
   // Robust variance in four bins of cos^2 (by rank), then variance = a + b cos^2 by least squares, a, b >= 0.
   std::vector<std::uint32_t> order(n);
@@ -78,13 +71,13 @@ std::vector<double> ray_noise_scales(const std::vector<Eigen::Vector3d>& points,
   constexpr int kBins = 4;
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
   std::vector<double> bin, tmp;
-  for (int b = 0; b < kBins; ++b) {
-    const std::size_t lo = n * b / kBins, hi = n * (b + 1) / kBins;
+  for (int k = 0; k < kBins; ++k) {
+    const std::size_t lo = n * k / kBins, hi = n * (k + 1) / kBins;
     bin.clear();
     double mean_c2 = 0;
-    for (std::size_t k = lo; k < hi; ++k) {
-      bin.push_back(res[order[k]]);
-      mean_c2 += c2[order[k]];
+    for (std::size_t j = lo; j < hi; ++j) {
+      bin.push_back(res[order[j]]);
+      mean_c2 += c2[order[j]];
     }
     mean_c2 /= double(hi - lo);
     const double sd = robust_sigma(bin, 1e-6, tmp);

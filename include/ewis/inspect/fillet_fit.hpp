@@ -50,13 +50,12 @@ struct FilletFit {
 
 // Sum of the Cauchy costs (scale `scale_mm`) of the surface residuals of `points` against the model: two models
 // compare on the same points and scale (a likelihood ratio under a robust noise model).
-// `noise_scale` (optional, one per point): each residual is divided by it (a point's noise relative to the others',
+// `noise_scale` (optional, one per point; ignored when its size differs): each residual is divided by it (a point's noise relative to the others',
 // see ray_noise_scales).
 double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm,
                           const std::vector<double>* noise_scale = nullptr);
 
 // Least-squares fit (Levenberg-Marquardt, Cauchy-weighted) of the swept fillet to surface points, from `initial`.
-// Deterministic.
 // Deterministic. With `noise_scale` (one per point) the residuals are divided by it: a weighted fit, whose sigma and
 // standard error are those of the scaled residuals.
 FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
