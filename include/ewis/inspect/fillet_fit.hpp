@@ -50,8 +50,8 @@ struct FilletFit {
 
 // Sum of the Cauchy costs (scale `scale_mm`) of the surface residuals of `points` against the model: two models
 // compare on the same points and scale (a likelihood ratio under a robust noise model).
-// `noise_scale` (optional, one per point; ignored when its size differs): each residual is divided by it (a point's noise relative to the others',
-// see ray_noise_scales).
+// `noise_scale` (optional, one per point; ignored when its size differs): each residual is divided by it (a point's
+// noise relative to the others', see ray_noise_scales).
 double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm,
                           const std::vector<double>* noise_scale = nullptr);
 
@@ -167,7 +167,7 @@ struct FilletScan {
   const KdTree* tree = nullptr;
   const std::vector<std::uint8_t>* usable = nullptr;  // 0: not a cable point (e.g. on a rigid CAD surface)
   // The sensor's position (same frame), when known: the refits then keep only points on the side of the tube that
-  // faces it (see FilletRefineParams::facing_min_cos).
+  // faces it and weigh them by the noise across the surface (FilletRefineParams::facing_min_cos, ray_noise_weights).
   bool has_sensor = false;
   Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();
 };
