@@ -95,6 +95,12 @@ bool faces_sensor(const FilletScan& scan, const Dist& dist, const Eigen::Vector3
   return !scan.has_sensor || facing_cosine(dist, x, scan.sensor_position) >= min_cos;
 }
 
+// The middle of a fillet's arc.
+Eigen::Vector3d fillet_arc_middle(const FilletModel& m) {
+  const double half = 0.5 * m.turn_rad();
+  return m.vertex + (m.leg1 + m.leg2).normalized() * (m.bend_radius_mm / std::cos(half) - m.bend_radius_mm);
+}
+
 struct Candidate {
   std::size_t profile = 0;
   double half_window_mm = 0.0;
@@ -192,12 +198,18 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     std::optional<FilletModel> init;  // the fillet's start (the legs from the centreline)
     bool smooth = false; // the smooth tube's radius replaces the fillet's (see FilletRefineParams::smooth)
     SmoothTubeFit smooth_fit;
+    std::vector<Eigen::Vector3d> pts;  // the points the fillet was fitted on, and their noise scales (may be empty)
+    std::vector<double> scales;
+    double s0 = 0.0, s1 = 0.0;  // the window (arc length along the centreline)
+    bool explained = false;  // another candidate's looser fillet explains this one's points (see below)
   };
   std::vector<Outcome> outcomes(cands.size());
   parallel_for_each_index(cands.size(), [&](std::size_t k) {
     const BendSample& p = bend.profile[cands[k].profile];
     const double s0 = std::max(0.0, p.arc_mm - cands[k].half_window_mm);
     const double s1 = std::min(total, p.arc_mm + cands[k].half_window_mm);
+    outcomes[k].s0 = s0;
+    outcomes[k].s1 = s1;
     // Legs from the centreline's outer thirds; the vertex where their lines pass closest.
     const double third = (s1 - s0) / 3.0;
     const Line l1 = fit_line(centerline, arc, s0, s0 + third), l2 = fit_line(centerline, arc, s1 - third, s1);
@@ -219,12 +231,12 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     init.tube_radius_mm = tube_radius_mm;
     outcomes[k].init = init;
     // The window's surface points: those whose nearest centreline sample lies inside it.
-    std::vector<Eigen::Vector3d> pts;
+    Outcome& o = outcomes[k];
+    std::vector<Eigen::Vector3d>& pts = o.pts;
     for (std::size_t i = 0; i < surface_points.size(); ++i)
       if (point_arc[i] >= s0 && point_arc[i] <= s1) pts.push_back(surface_points[i]);
-    Outcome& o = outcomes[k];
     o.fit = fit_fillet(pts, init, params.fit);
-    std::vector<double> scales;  // each point's noise relative to the others' (empty: the same for all)
+    std::vector<double>& scales = o.scales;  // each point's noise relative to the others' (empty: the same for all)
     if (params.regather && scan.cloud && scan.tree && o.fit.ok) {
       // Again on the scan points around the first fit's surface (the corner's apex included).
       const FilletModel& m1 = o.fit.model;
@@ -396,6 +408,54 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     }, 1);
   }
 
+  // A fillet tighter than another candidate's far more precise one, whose arc lies on that one's arc and whose radius
+  // agrees with it, is a bend of its own only where its points there reject the looser fillet's model
+  // (FilletRefineParams::explained_*).
+  const auto fillet_reading = [&](const Outcome& o) { return o.ok && !o.bound && !o.smooth; };
+  const auto arc_of = [&](const Eigen::Vector3d& x) {
+    const Neighbor nb = cl_tree.nearest(x.cast<float>());
+    return nb.index == UINT32_MAX ? -1.0 : arc[nb.index];
+  };
+  if (params.explained_min_log_likelihood_ratio > 0) {
+    parallel_for_each_index(cands.size(), [&](std::size_t k) {
+      Outcome& o = outcomes[k];
+      if (!fillet_reading(o)) return;
+      const double c = params.fit.kernel_factor * std::max(o.fit.sigma_mm, params.fit.min_noise_mm);
+      const double sigma2 = std::max(o.fit.sigma_mm * o.fit.sigma_mm, 1e-12);
+      std::vector<double> pts_arc(o.pts.size());
+      for (std::size_t i = 0; i < o.pts.size(); ++i) pts_arc[i] = arc_of(o.pts[i]);
+      const double mid_arc = arc_of(fillet_arc_middle(o.fit.model));
+      for (std::size_t j = 0; j < cands.size() && !o.explained; ++j) {
+        const Outcome& l = outcomes[j];
+        if (j == k || !fillet_reading(l) || !(l.fit.model.bend_radius_mm > o.fit.model.bend_radius_mm) ||
+            !(l.fit.bend_radius_se_mm <= params.explained_max_se_ratio * o.fit.bend_radius_se_mm))
+          continue;
+        // This arc's middle between the looser arc's tangent points (along the centreline).
+        const FilletModel& m = l.fit.model;
+        const double tangent = m.bend_radius_mm * std::tan(0.5 * m.turn_rad());
+        const double t1 = arc_of(m.vertex + tangent * m.leg1), t2 = arc_of(m.vertex + tangent * m.leg2);
+        if (!(mid_arc >= std::min(t1, t2) && mid_arc <= std::max(t1, t2))) continue;
+        // The two radii agree within their errors (a spline's curvature peak read by the narrower fit does not).
+        if (!(m.bend_radius_mm - o.fit.model.bend_radius_mm <
+              params.explained_max_radius_z * std::hypot(o.fit.bend_radius_se_mm, l.fit.bend_radius_se_mm)))
+          continue;
+        // Both models on this fit's points inside the looser one's window (its model holds there only).
+        std::vector<Eigen::Vector3d> shared;
+        std::vector<double> shared_scales;
+        for (std::size_t i = 0; i < o.pts.size(); ++i) {
+          if (pts_arc[i] < l.s0 || pts_arc[i] > l.s1) continue;
+          shared.push_back(o.pts[i]);
+          if (!o.scales.empty()) shared_scales.push_back(o.scales[i]);
+        }
+        if (2 * shared.size() < o.pts.size()) continue;
+        const std::vector<double>* sc = shared_scales.empty() ? nullptr : &shared_scales;
+        const double ratio =
+            2.0 * (fillet_robust_cost(shared, m, c, sc) - fillet_robust_cost(shared, o.fit.model, c, sc)) / sigma2;
+        o.explained = ratio < params.explained_min_log_likelihood_ratio;
+      }
+    }, 1);
+  }
+
   // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on
   // radius + choice_se_factor x se: a loose arc wins over a tighter one only when it is tighter even then.
   int refined = 0;
@@ -406,6 +466,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   bool best_bound = false;
   const char* best_model = "circle";
   for (std::size_t k = 0; k < cands.size(); ++k) {
+    if (outcomes[k].explained) continue;  // the looser fillet that explains it is a candidate too
     const BendSample& p = bend.profile[cands[k].profile];
     double r = p.radius_mm, se = p.radius_se_mm;
     Eigen::Vector3d where = p.point;
@@ -424,9 +485,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const FilletModel& m = outcomes[k].fit.model;
       r = m.bend_radius_mm;
       se = outcomes[k].fit.bend_radius_se_mm;
-      const Eigen::Vector3d bis = (m.leg1 + m.leg2).normalized();
-      const double half = 0.5 * m.turn_rad();
-      where = m.vertex + bis * (r / std::cos(half) - r);  // the arc's middle
+      where = fillet_arc_middle(m);
     }
     const double score = r + params.choice_se_factor * se;
     if (score < best_score) {

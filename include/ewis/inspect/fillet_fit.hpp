@@ -158,6 +158,24 @@ struct FilletRefineParams {
   // (40.7 +- 4.6 mm for a 40.1 mm truth) lost to a long looser one (47.5 +- 1.1 mm) by under 0.5 mm on 3 of
   // 140 campaign scenes; 1.5 keeps them (C: 179/193 within 5 %, was 177) with no false alarm on C, N, S.
   double choice_se_factor = 1.5;
+  // A window centred near one end of a longer arc holds only the arc's last stretch: its fillet reads it with a few
+  // times the whole arc's standard error, and where it read 1.5-2 of them low it won the choice (the repeatability
+  // scene of seed 12, one scan of 20: 35.35 +- 2.27 mm near an 8.5 d arc's end, where the arc's own fit read
+  // 40.64 +- 0.07 for 40.63). Such a fit is left out of the choice when another candidate's fillet
+  // - is looser and far more precise: its standard error at most explained_max_se_ratio times this one's (two fits
+  //   of one arc about as precise are each as good: with 1, a40's scene_038 read 69.6 +- 1.2 mm, not 67.0 +- 1.3,
+  //   for 66.6);
+  // - has this fit's arc's middle on its arc (between its tangent points, along the centreline);
+  // - agrees on the radius: the two differ by less than explained_max_radius_z combined standard errors (arc ends
+  //   read 1.5-2.5 low; a spline's curvature peak, which a narrower window reads tighter, 4-15 on the two-cable
+  //   bundles);
+  // - and is not rejected by this fit's points inside its window (its model as it stands; the same weights and
+  //   kernel) by a likelihood ratio of explained_min_log_likelihood_ratio (2 x cost difference / sigma^2; 25: five
+  //   standard errors, as for the other tests).
+  // explained_min_log_likelihood_ratio <= 0: off.
+  double explained_min_log_likelihood_ratio = 25.0;
+  double explained_max_radius_z = 3.0;
+  double explained_max_se_ratio = 0.5;
   SmoothTubeFitParams smooth_fit;
 };
 
