@@ -391,11 +391,19 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);
     // The fillet as it stands first: refitted on these points it can only fit better, so a ratio already short of
     // the threshold needs no refit (most candidates; the refit is the costly part).
-    if (!(2.0 * (fillet_robust_cost(over, start, c) - smooth_cost) / sigma2 >= params.smooth_min_log_likelihood_ratio))
-      return;
+    const double min_ratio = std::min(params.smooth_min_log_likelihood_ratio, params.smooth_varying_min_log_likelihood_ratio);
+    if (!(2.0 * (fillet_robust_cost(over, start, c) - smooth_cost) / sigma2 >= min_ratio)) return;
     const FilletFit rival = fit_fillet(over, start, params.fit);
     const double ratio = 2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_cost) / sigma2;
-    if (!(ratio >= params.smooth_min_log_likelihood_ratio)) return;
+    if (!(ratio >= min_ratio)) return;
+    // Below the full threshold, only where the curvature varies: the fillet on the smooth tube's (narrower) points
+    // reads clearly tighter than the candidate's own (see FilletRefineParams::smooth_varying_*).
+    if (!(ratio >= params.smooth_min_log_likelihood_ratio)) {
+      const bool varies = o.fit.ok && rival.ok && std::isfinite(o.fit.model.bend_radius_mm) &&
+                          o.fit.model.bend_radius_mm - rival.model.bend_radius_mm >=
+                              params.smooth_varying_min_z * rival.bend_radius_se_mm;
+      if (!varies) return;
+    }
     // A peak more than 1 / smooth_min_fillet_ratio times the fillet's curvature on the same points is the quartic
     // wiggling, not a bend (see FilletRefineParams::smooth_min_fillet_ratio).
     if (!(R >= params.smooth_min_fillet_ratio * rival.model.bend_radius_mm)) return;

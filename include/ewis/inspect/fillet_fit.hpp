@@ -142,6 +142,15 @@ struct FilletRefineParams {
   double smooth_min_half_window_diameters = 1.0;
   double smooth_max_half_window_diameters = 3.0;
   double smooth_min_log_likelihood_ratio = 25.0;
+  // ... or of at least smooth_varying_min_log_likelihood_ratio (9: three standard errors) where the curvature
+  // varies along the bend: the fillet refitted on the smooth tube's points (a narrower window) reads tighter than
+  // the candidate's own fillet by at least smooth_varying_min_z of its standard errors. On an arc a fillet reads
+  // the same radius over any window that holds it; on a spline the narrower window sees more of the peak. With
+  // the lower threshold alone, S20 had 20 of 33 bends within 5 % (15 before) but the campaign C 179 of 193 (182):
+  // five arcs read 3-11 % low by the smooth tube, each with its two fillets within 1 se of each other, where the
+  // spline bends gained showed 2-12 se.
+  double smooth_varying_min_log_likelihood_ratio = 9.0;
+  double smooth_varying_min_z = 2.0;
   // ... and only when its tube radius is within this fraction of the run's measured one: a smooth fit with a
   // wider tube holds points of something else (campaign scene_113: a run's end by a connector, 7.35 for 6.75 mm,
   // read a 71.3 mm helix at 64.4 mm)
