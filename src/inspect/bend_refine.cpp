@@ -391,7 +391,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);
     // The fillet as it stands first: refitted on these points it can only fit better, so a ratio already short of
     // the threshold needs no refit (most candidates; the refit is the costly part).
-    const double min_ratio = std::min(params.smooth_min_log_likelihood_ratio, params.smooth_varying_min_log_likelihood_ratio);
+    const double min_ratio =
+        std::min(params.smooth_min_log_likelihood_ratio, params.smooth_varying_min_log_likelihood_ratio);
     if (!(2.0 * (fillet_robust_cost(over, start, c) - smooth_cost) / sigma2 >= min_ratio)) return;
     const FilletFit rival = fit_fillet(over, start, params.fit);
     const double ratio = 2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_cost) / sigma2;
