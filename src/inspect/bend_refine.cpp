@@ -431,8 +431,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (!fillet_reading(o)) return;
       const double c = params.fit.kernel_factor * std::max(o.fit.sigma_mm, params.fit.min_noise_mm);
       const double sigma2 = std::max(o.fit.sigma_mm * o.fit.sigma_mm, 1e-12);
-      std::vector<double> pts_arc(o.pts.size());
-      for (std::size_t i = 0; i < o.pts.size(); ++i) pts_arc[i] = arc_of(o.pts[i]);
+      std::vector<double> pts_arc;  // each point's arc length, found once a looser fillet qualifies
       const double mid_arc = arc_of(fillet_arc_middle(o.fit.model));
       for (std::size_t j = 0; j < cands.size() && !o.explained; ++j) {
         const Outcome& l = outcomes[j];
@@ -449,6 +448,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
               params.explained_max_radius_z * std::hypot(o.fit.bend_radius_se_mm, l.fit.bend_radius_se_mm)))
           continue;
         // Both models on this fit's points inside the looser one's window (its model holds there only).
+        if (pts_arc.empty())
+          for (const Eigen::Vector3d& x : o.pts) pts_arc.push_back(arc_of(x));
         std::vector<Eigen::Vector3d> shared;
         std::vector<double> shared_scales;
         for (std::size_t i = 0; i < o.pts.size(); ++i) {
