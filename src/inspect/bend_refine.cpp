@@ -395,11 +395,13 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         std::min(params.smooth_min_log_likelihood_ratio, params.smooth_varying_min_log_likelihood_ratio);
     if (!(2.0 * (fillet_robust_cost(over, start, c) - smooth_cost) / sigma2 >= min_ratio)) return;
     const FilletFit rival = fit_fillet(over, start, params.fit);
-    const double ratio = 2.0 * (fillet_robust_cost(over, rival.model, c) - smooth_cost) / sigma2;
+    const double rival_cost = fillet_robust_cost(over, rival.model, c);
+    const double ratio = 2.0 * (rival_cost - smooth_cost) / sigma2;
     if (!(ratio >= min_ratio)) return;
     // Below the full threshold, only where the curvature varies: the fillet on the smooth tube's (narrower) points
     // reads clearly tighter than the candidate's own (see FilletRefineParams::smooth_varying_*).
-    if (!(ratio >= params.smooth_min_log_likelihood_ratio)) {
+    const bool full = ratio >= params.smooth_min_log_likelihood_ratio;
+    if (!full) {
       const bool varies = o.fit.ok && rival.ok && std::isfinite(o.fit.model.bend_radius_mm) &&
                           o.fit.model.bend_radius_mm - rival.model.bend_radius_mm >=
                               params.smooth_varying_min_z * rival.bend_radius_se_mm;
@@ -408,6 +410,24 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // A peak more than 1 / smooth_min_fillet_ratio times the fillet's curvature on the same points is the quartic
     // wiggling, not a bend (see FilletRefineParams::smooth_min_fillet_ratio).
     if (!(R >= params.smooth_min_fillet_ratio * rival.model.bend_radius_mm)) return;
+    // A bend out of its plane: where the fillet as a helix (its tilt free) fits about as well as the smooth tube, the
+    // quartic won on the torsion, and it stands only where the curvature varies as the helices read it: the narrower
+    // window's clearly tighter than the candidate's (see FilletRefineParams::smooth_tilted_rival).
+    if (params.smooth_tilted_rival && std::isfinite(rival.model.bend_radius_mm)) {
+      FilletFitParams tilted_params = params.fit;
+      tilted_params.fit_tilt = true;
+      const FilletFit tilted = fit_fillet(over, rival.model, tilted_params);
+      const double tilted_ratio = 2.0 * (fillet_robust_cost(over, tilted.model, c) - smooth_cost) / sigma2;
+      if (std::isfinite(tilted.model.bend_radius_mm) && tilted_ratio < params.smooth_tilted_max_log_likelihood_ratio) {
+        const std::vector<double>* sc = o.scales.empty() ? nullptr : &o.scales;
+        const FilletFit wide = fit_fillet(o.pts, o.fit.model, tilted_params, sc);
+        const double tighter = wide.model.bend_radius_mm - tilted.model.bend_radius_mm;
+        const bool varies = std::isfinite(tighter) && std::isfinite(tilted.bend_radius_se_mm) &&
+                            tighter >= params.smooth_varying_min_z * tilted.bend_radius_se_mm &&
+                            tighter >= params.smooth_tilted_min_variation * wide.model.bend_radius_mm;
+        if (!varies) return;
+      }
+    }
     o.smooth = true;
     o.smooth_fit = sf;
   };

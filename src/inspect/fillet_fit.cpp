@@ -14,9 +14,14 @@
 namespace ewis {
 namespace {
 
-constexpr int kParams = 9;  // vertex (3), leg1 tangent (2), leg2 tangent (2), log bend radius, tube radius
-using Vec = Eigen::Matrix<double, kParams, 1>;
-using Mat = Eigen::Matrix<double, kParams, kParams>;
+constexpr double kMaxTiltRad = 1.2;  // beyond it the helix climbs steeper than it turns: no bend's shape
+// Parameters: vertex (3), leg1 tangent (2), leg2 tangent (2), log bend radius, tube radius; and the tilt when it is
+// free (a planar fit keeps the 9-parameter system, and with it the arithmetic it always had).
+constexpr int kPlanarParams = 9, kTiltedParams = 10;
+template <int N>
+using Vec = Eigen::Matrix<double, N, 1>;
+template <int N>
+using Mat = Eigen::Matrix<double, N, N>;
 
 // Two unit vectors perpendicular to u (a tangent basis for a direction's update).
 void tangent_basis(const Eigen::Vector3d& u, Eigen::Vector3d& e1, Eigen::Vector3d& e2) {
@@ -25,17 +30,88 @@ void tangent_basis(const Eigen::Vector3d& u, Eigen::Vector3d& e1, Eigen::Vector3
 }
 
 // The model moved by x (relative to `base`, in the local parameterisation).
-FilletModel apply(const FilletModel& base, const Vec& x) {
+template <int N>
+FilletModel apply(const FilletModel& base, const Vec<N>& x) {
   FilletModel m = base;
   Eigen::Vector3d a1, a2, b1, b2;
   tangent_basis(base.leg1, a1, a2);
   tangent_basis(base.leg2, b1, b2);
-  m.vertex = base.vertex + x.head<3>();
+  m.vertex = base.vertex + x.template head<3>();
   m.leg1 = (base.leg1 + x[3] * a1 + x[4] * a2).normalized();
   m.leg2 = (base.leg2 + x[5] * b1 + x[6] * b2).normalized();
   m.bend_radius_mm = base.bend_radius_mm * std::exp(std::clamp(x[7], -3.0, 3.0));
   m.tube_radius_mm = base.tube_radius_mm + x[8];
+  if constexpr (N > kPlanarParams) m.tilt_rad = std::clamp(base.tilt_rad + x[9], -kMaxTiltRad, kMaxTiltRad);
   return m;
+}
+
+// A tilted fillet's arc: the helix X(phi) = axis_point + rho (-cos(phi) e_n0 + sin(phi) e_t0) + lift phi n, phi in
+// [0, phi_end], of curvature 1 / bend_radius_mm, tangent to -leg1 at `start` and to leg2 at `end`.
+struct HelixArc {
+  Eigen::Vector3d axis_point, n, e_t0, e_n0, start, end;
+  double rho = 0, lift = 0, phi_end = 0;
+  Eigen::Vector3d at(double phi) const {
+    return axis_point + rho * (-std::cos(phi) * e_n0 + std::sin(phi) * e_t0) + lift * phi * n;
+  }
+};
+
+// The helix of a tilted model (see FilletModel::tilt_rad); false where it is degenerate (legs nearly parallel or
+// opposite, a tilt that leaves no turn about the axis).
+bool helix_of(const FilletModel& m, HelixArc& h) {
+  const double turn = m.turn_rad();
+  const Eigen::Vector3d cross = m.leg1.cross(m.leg2), through = m.leg2 - m.leg1;
+  if (!(turn > 1e-6) || cross.norm() < 1e-9 || through.norm() < 1e-9) return false;
+  const Eigen::Vector3d t_in = -m.leg1, t_out = m.leg2;
+  Eigen::Vector3d n = std::cos(m.tilt_rad) * cross.normalized() + std::sin(m.tilt_rad) * through.normalized();
+  double s = t_in.dot(n);  // sine of the helix's climb: the same for both tangents
+  if (std::abs(s) > 0.95) return false;
+  const Eigen::Vector3d p_in = (t_in - s * n).normalized(), p_out = (t_out - s * n).normalized();
+  double phi = std::atan2(p_in.cross(p_out).dot(n), p_in.dot(p_out));
+  if (phi < 0) n = -n, s = -s, phi = -phi;
+  if (!(phi > 1e-9)) return false;
+  const double R = m.bend_radius_mm, c = std::sqrt(1.0 - s * s);
+  h.n = n;
+  h.rho = R * c * c;
+  h.lift = R * s * c;
+  h.phi_end = phi;
+  h.e_t0 = p_in;
+  h.e_n0 = n.cross(p_in);
+  h.axis_point = Eigen::Vector3d::Zero();
+  // Placed so that the middle of the legs' common perpendicular is the vertex.
+  const Eigen::Vector3d x0 = h.at(0.0), x1 = h.at(phi), w0 = x0 - x1;
+  const double b = t_in.dot(t_out), den = 1.0 - b * b;
+  if (!(den > 1e-12)) return false;
+  const double d = t_in.dot(w0), e = t_out.dot(w0);
+  const double mu = (b * e - d) / den, nu = (e - b * d) / den;
+  const Eigen::Vector3d middle = 0.5 * (x0 + mu * t_in + x1 + nu * t_out);
+  h.axis_point = m.vertex - middle;
+  h.start = x0 + h.axis_point;
+  h.end = x1 + h.axis_point;
+  return true;
+}
+
+// Distance from p to the helix over [0, phi_end] (infinity where its closest point lies beyond an end: the legs
+// hold those points), by Newton steps on the squared distance from p's angle about the axis.
+double helix_distance(const HelixArc& h, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d w = p - h.axis_point;
+  double phi = std::atan2(w.dot(h.e_t0), -w.dot(h.e_n0));
+  const double mid = 0.5 * h.phi_end;
+  while (phi < mid - M_PI) phi += 2.0 * M_PI;
+  while (phi > mid + M_PI) phi -= 2.0 * M_PI;
+  for (int it = 0; it < 8; ++it) {
+    const Eigen::Vector3d u = -std::cos(phi) * h.e_n0 + std::sin(phi) * h.e_t0;
+    const Eigen::Vector3d du = std::sin(phi) * h.e_n0 + std::cos(phi) * h.e_t0;
+    const Eigen::Vector3d r = p - (h.axis_point + h.rho * u + h.lift * phi * h.n);
+    const Eigen::Vector3d d1 = h.rho * du + h.lift * h.n, d2 = -h.rho * u;
+    const double g = -r.dot(d1);
+    double hh = d1.squaredNorm() - r.dot(d2);
+    if (!(hh > 1e-12)) hh = d1.squaredNorm();
+    const double step = std::clamp(-g / hh, -0.3, 0.3);
+    phi += step;
+    if (std::abs(step) < 1e-12) break;
+  }
+  if (phi < 0.0 || phi > h.phi_end) return std::numeric_limits<double>::infinity();
+  return (p - h.at(phi)).norm();
 }
 
 }  // namespace
@@ -103,6 +179,14 @@ double FilletModel::turn_rad() const {
 }
 
 double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p) {
+  HelixArc helix;
+  if (m.tilt_rad != 0.0 && helix_of(m, helix)) {
+    auto half_line = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& dir) {
+      const double s = std::max(0.0, (p - start).dot(dir));
+      return (p - start - s * dir).norm();
+    };
+    return std::min({half_line(helix.start, m.leg1), half_line(helix.end, m.leg2), helix_distance(helix, p)});
+  }
   const double turn = m.turn_rad();
   const double R = m.bend_radius_mm;
   const double half = 0.5 * turn;
@@ -130,8 +214,13 @@ double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p
   return best;
 }
 
-FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
-                     const FilletFitParams& params, const std::vector<double>* noise_scale) {
+namespace {
+
+template <int kParams>
+FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
+                       const FilletFitParams& params, const std::vector<double>* noise_scale) {
+  using Vec = ewis::Vec<kParams>;
+  using Mat = ewis::Mat<kParams>;
   FilletFit out;
   const std::vector<std::uint32_t> picked = evenly_strided(surface_points.size(), params.max_points);
   const std::vector<Eigen::Vector3d> pts = pick(surface_points, picked);
@@ -160,11 +249,14 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
   // columns of held parameters stay zero.
   Eigen::MatrixXd J(n, kParams);
   std::vector<double> shifted(n);
-  const auto held = [&](int j) { return (j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius); };
+  const auto held = [&](int j) {
+    return (j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius) || (j == 9 && !params.fit_tilt);
+  };
   const auto step_scale = [](const FilletModel& m) { return std::max(m.tube_radius_mm, 0.5); };
   const auto jacobian = [&](const FilletModel& m) {
     const double scale = step_scale(m);
-    const double h[kParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5 * scale};
+    const double h[kTiltedParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5,
+                                     1e-5 * scale, 1e-5};
     for (int j = 0; j < kParams; ++j) {
       if (held(j)) {
         J.col(j).setZero();
@@ -172,7 +264,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
       }
       Vec x = Vec::Zero();
       x[j] = h[j];
-      residuals(apply(m, x), shifted);
+      residuals(apply<kParams>(m, x), shifted);
       for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
     }
   };
@@ -216,7 +308,7 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
         lambda *= 10;
         continue;
       }
-      const FilletModel trial = apply(model, step);
+      const FilletModel trial = apply<kParams>(model, step);
       if (!(trial.tube_radius_mm > 0) || trial.turn_rad() <= 1e-6) {
         lambda *= 10;
         continue;
@@ -227,7 +319,9 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
         res.swap(shifted);
         lambda = std::max(lambda * 0.2, 1e-9);
         accepted = true;
-        if (step.head<3>().norm() < 1e-5 * scale && step.segment<4>(3).norm() < 1e-7 && std::abs(step[7]) < 1e-7) {
+        const bool tilt_settled = kParams == kPlanarParams || std::abs(step[kParams - 1]) < 1e-7;
+        if (step.template head<3>().norm() < 1e-5 * scale && step.template segment<4>(3).norm() < 1e-7 &&
+            std::abs(step[7]) < 1e-7 && tilt_settled) {
           converged = true;
         }
         break;
@@ -257,6 +351,14 @@ FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const F
                                                           : std::numeric_limits<double>::infinity();
   out.ok = converged && std::isfinite(model.bend_radius_mm) && model.turn_rad() > 1e-3 && model.tube_radius_mm > 0;
   return out;
+}
+
+}  // namespace
+
+FilletFit fit_fillet(const std::vector<Eigen::Vector3d>& surface_points, const FilletModel& initial,
+                     const FilletFitParams& params, const std::vector<double>* noise_scale) {
+  return params.fit_tilt ? fit_fillet_n<kTiltedParams>(surface_points, initial, params, noise_scale)
+                         : fit_fillet_n<kPlanarParams>(surface_points, initial, params, noise_scale);
 }
 
 }  // namespace ewis

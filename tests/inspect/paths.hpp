@@ -38,6 +38,22 @@ struct Turtle {
   }
 };
 
+// Centreline of a line-helix-line bend: a straight leg of `leg_mm`, a helix of radius r and rise c per radian
+// (axis along z; curvature radius (r^2 + c^2) / r) turning by angle_deg about its axis, a straight leg; points
+// about `step` mm apart.
+inline std::vector<Eigen::Vector3d> helical_bend(double r, double c, double angle_deg, double leg_mm, double step) {
+  const double k = std::hypot(r, c), end = k * angle_deg * M_PI / 180.0;
+  const auto at = [&](double s) { return Eigen::Vector3d(r * std::sin(s / k), r - r * std::cos(s / k), c * s / k); };
+  const auto tangent = [&](double s) {
+    return Eigen::Vector3d(r * std::cos(s / k), r * std::sin(s / k), c).normalized();
+  };
+  std::vector<Eigen::Vector3d> pts;
+  for (double s = -leg_mm; s < 0; s += step) pts.push_back(at(0) + s * tangent(0));
+  for (double s = 0; s < end; s += step) pts.push_back(at(s));
+  for (double s = 0; s <= leg_mm; s += step) pts.push_back(at(end) + s * tangent(end));
+  return pts;
+}
+
 inline std::vector<Eigen::Vector3d> add_noise(std::vector<Eigen::Vector3d> pts, double sigma, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, sigma);
@@ -45,8 +61,9 @@ inline std::vector<Eigen::Vector3d> add_noise(std::vector<Eigen::Vector3d> pts, 
   return pts;
 }
 
-// Upper-half surface points (sensor far above, +z) of a tube swept along a centreline in the xy plane, with
-// Gaussian noise along the sensor's rays.
+// Upper-half surface points (sensor far above, +z) of a tube swept along a centreline, with Gaussian noise along the
+// sensor's rays. The half is the one around the upward direction across the tube (+z for a centreline in the xy
+// plane; a centreline that climbs, as a helix's does, has it tilted).
 inline std::vector<Eigen::Vector3d> tube_surface(const std::vector<Eigen::Vector3d>& axis, double r, double noise_mm,
                                                  std::uint32_t seed) {
   std::mt19937 rng(seed);
@@ -56,7 +73,7 @@ inline std::vector<Eigen::Vector3d> tube_surface(const std::vector<Eigen::Vector
   std::vector<Eigen::Vector3d> pts;
   for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
     const Eigen::Vector3d t = (axis[i + 1] - axis[i]).normalized();
-    const Eigen::Vector3d n1 = Eigen::Vector3d::UnitZ(), n2 = t.cross(n1).normalized();
+    const Eigen::Vector3d n1 = (Eigen::Vector3d::UnitZ() - t.z() * t).normalized(), n2 = t.cross(n1).normalized();
     for (int k = 0; k < around; ++k) {
       const double phi = -0.5 * M_PI + M_PI * (k + 0.5) / around;
       const Eigen::Vector3d q = axis[i] + r * (std::cos(phi) * n1 + std::sin(phi) * n2);

@@ -21,8 +21,15 @@ struct FilletModel {
   Eigen::Vector3d vertex = Eigen::Vector3d::Zero();  // where the two legs' lines meet
   Eigen::Vector3d leg1 = Eigen::Vector3d::UnitX();   // unit, from the vertex back along the incoming leg
   Eigen::Vector3d leg2 = -Eigen::Vector3d::UnitY();  // unit, from the vertex along the outgoing leg
-  double bend_radius_mm = 1.0;                       // of the arc (centreline)
+  double bend_radius_mm = 1.0;                       // of the arc (centreline): 1 / its curvature
   double tube_radius_mm = 1.0;
+  // A bend out of its plane (a cable routed in 3D): the arc is a helix of the same curvature tangent to both legs,
+  // its axis tilted by tilt_rad from the legs' plane's normal towards the direction from leg1 to leg2 (0: the
+  // planar arc; the legs are then skew, and `vertex` is the middle of their common perpendicular). Why: a planar
+  // arc cannot follow a helical bend's torsion, and where the smooth tube could (smooth_tube_fit.hpp) it won the
+  // choice by that alone and read the helix's ends as tighter bends (campaign scene_113: a helix of 71.4 mm read
+  // 67.7 +- 0.4 mm, fillet 71.1).
+  double tilt_rad = 0.0;
   double turn_rad() const;                           // direction change over the arc (pi - angle between legs)
 };
 
@@ -36,6 +43,7 @@ struct FilletFitParams {
   double kernel_factor = 2.5;         // Cauchy scale = kernel_factor x robust sigma of the residuals
   bool fit_tube_radius = true;
   bool fit_bend_radius = true;        // false: the bend radius stays at the initial one (a competing hypothesis)
+  bool fit_tilt = false;              // true: the arc may be a helix (FilletModel::tilt_rad); false: it stays as given
 };
 
 struct FilletFit {
@@ -155,6 +163,22 @@ struct FilletRefineParams {
   // wider tube holds points of something else (campaign scene_113: a run's end by a connector, 7.35 for 6.75 mm,
   // read a 71.3 mm helix at 64.4 mm)
   double smooth_tube_radius_tolerance = 0.05;
+  // ... and, where the fillet refitted as a helix (FilletModel::tilt_rad free) on the same points fits about as well
+  // as the smooth tube (likelihood ratio under smooth_tilted_max_log_likelihood_ratio: the quartic has one parameter
+  // more, so a helical bend gives about 1), only where the curvature varies as the helices read it: the helix on the
+  // smooth tube's points reads at least smooth_varying_min_z of its standard errors, and at least
+  // smooth_tilted_min_variation of the radius, tighter than the helix refitted on the candidate's wider window (on a
+  // helix of 71.4 mm the two read 0.4 % apart at 3 se: the narrower one across an end). Why: a planar arc cannot
+  // follow a helical bend's torsion and the quartic can, so the smooth tube won on it by the likelihood ratio alone,
+  // and over windows across the helix's ends, where a quartic overshoots a curvature that steps, read it low
+  // (campaign scene_113: 67.7 +- 0.4 mm for a 71.4 mm helix; scene_100: -4.6 %). There the helix fitted the points
+  // as well as the quartic or better (ratios -280 to 2). On the spline set S20 the helix took a spline's twist with
+  // an extreme tilt (1.1-1.2 rad) and left the quartic ratios of 5-15: with the threshold that had applied (25, or 9)
+  // in place of 4, S20 lost 1 (with the variation test) or 6 (without) of its 19 bends within 5 %; at 4 none moved.
+  // false: the planar fillet only.
+  bool smooth_tilted_rival = true;
+  double smooth_tilted_max_log_likelihood_ratio = 4.0;
+  double smooth_tilted_min_variation = 0.01;
   // ... and only when its peak radius is at least this fraction of the fillet's refitted on the same points: a
   // curvature that rises and falls within the window peaks at about 1.5 (a quadratic profile) to 2 (a triangle)
   // times the window's mean, which the fillet reads. Over 351 smooth fits taken on 70 spline scenes the ratio was
