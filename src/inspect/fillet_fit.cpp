@@ -90,6 +90,12 @@ bool helix_of(const FilletModel& m, HelixArc& h) {
   return true;
 }
 
+// Distance from p to the half-line from `start` along the unit `dir` (a fillet's leg).
+double half_line_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& start, const Eigen::Vector3d& dir) {
+  const double s = std::max(0.0, (p - start).dot(dir));
+  return (p - start - s * dir).norm();
+}
+
 // Distance from p to the helix over [0, phi_end] (infinity where its closest point lies beyond an end: the legs
 // hold those points), by Newton steps on the squared distance from p's angle about the axis.
 double helix_distance(const HelixArc& h, const Eigen::Vector3d& p) {
@@ -180,24 +186,16 @@ double FilletModel::turn_rad() const {
 
 double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p) {
   HelixArc helix;
-  if (m.tilt_rad != 0.0 && helix_of(m, helix)) {
-    auto half_line = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& dir) {
-      const double s = std::max(0.0, (p - start).dot(dir));
-      return (p - start - s * dir).norm();
-    };
-    return std::min({half_line(helix.start, m.leg1), half_line(helix.end, m.leg2), helix_distance(helix, p)});
-  }
+  if (m.tilt_rad != 0.0 && helix_of(m, helix))
+    return std::min({half_line_distance(p, helix.start, m.leg1), half_line_distance(p, helix.end, m.leg2),
+                     helix_distance(helix, p)});
   const double turn = m.turn_rad();
   const double R = m.bend_radius_mm;
   const double half = 0.5 * turn;
   const double tangent_len = R * std::tan(half);
   const Eigen::Vector3d t1 = m.vertex + tangent_len * m.leg1;
   const Eigen::Vector3d t2 = m.vertex + tangent_len * m.leg2;
-  auto half_line = [&](const Eigen::Vector3d& start, const Eigen::Vector3d& dir) {
-    const double s = std::max(0.0, (p - start).dot(dir));
-    return (p - start - s * dir).norm();
-  };
-  double best = std::min(half_line(t1, m.leg1), half_line(t2, m.leg2));
+  double best = std::min(half_line_distance(p, t1, m.leg1), half_line_distance(p, t2, m.leg2));
   const Eigen::Vector3d bis = m.leg1 + m.leg2;
   const Eigen::Vector3d normal = m.leg1.cross(m.leg2);
   if (turn < 1e-9 || bis.norm() < 1e-12 || normal.norm() < 1e-12) return best;
@@ -249,9 +247,7 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
   // columns of held parameters stay zero.
   Eigen::MatrixXd J(n, kParams);
   std::vector<double> shifted(n);
-  const auto held = [&](int j) {
-    return (j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius) || (j == 9 && !params.fit_tilt);
-  };
+  const auto held = [&](int j) { return (j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius); };
   const auto step_scale = [](const FilletModel& m) { return std::max(m.tube_radius_mm, 0.5); };
   const auto jacobian = [&](const FilletModel& m) {
     const double scale = step_scale(m);

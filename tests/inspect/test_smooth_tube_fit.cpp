@@ -25,6 +25,18 @@ std::vector<Eigen::Vector3d> ellipse(double A, double B, double t0, double t1, d
 
 constexpr double kA = 80.0, kB = 50.0;  // smallest radius 31.25 mm, 95 mm at t = +-1
 
+// The cable's minimum bend radius through the whole refinement: the circle windows on the centreline (0.08 mm noise),
+// then the fits on the upper-half surface points of a tube of radius d / 2 with `noise_mm` along the rays.
+double refined_min_radius(const std::vector<Eigen::Vector3d>& axis, double d, double noise_mm, std::uint32_t seed,
+                          std::uint32_t centreline_seed, const FilletRefineParams& params = {}) {
+  const std::vector<Eigen::Vector3d> surface = test::tube_surface(axis, 0.5 * d, noise_mm, seed);
+  const std::vector<Eigen::Vector3d> centreline = test::add_noise(axis, 0.08, centreline_seed);
+  BendRadiusResult b = measure_bend_radius(centreline, d);
+  refine_bends_with_fillets(b, centreline, surface, 0.5 * d, d, params);
+  EXPECT_TRUE(b.min_radius_mm) << "seed " << seed;
+  return b.min_radius_mm.value_or(0.0);
+}
+
 }  // namespace
 
 TEST(SmoothTubeFit, CurveAndDistance) {
@@ -88,7 +100,7 @@ TEST(FilletRefine, ASmoothBendIsMeasuredAtItsPeak) {
 // ends (it overshoots there), and the data prefer the fillet. At 0.8 mm noise too: a fillet reads an arc the same
 // over any window that holds it, so the lower ratio for a varying curvature (below) never applies.
 TEST(FilletRefine, AFilletBendKeepsTheFilletsReading) {
-  const double d = 6.0, r = 0.5 * d;
+  const double d = 6.0;
   for (const auto& [noise_mm, draws] : {std::pair{0.15, 3u}, std::pair{0.8, 6u}}) {
     for (const double radius : {25.0, 40.0}) {
       test::Turtle t;
@@ -96,15 +108,9 @@ TEST(FilletRefine, AFilletBendKeepsTheFilletsReading) {
       t.straight(80);
       t.arc(radius, 50.0, t.dir.cross(-Eigen::Vector3d::UnitZ()));
       t.straight(80);
-      for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-        const std::vector<Eigen::Vector3d> surface = test::tube_surface(t.points, r, noise_mm, seed);
-        const std::vector<Eigen::Vector3d> centreline = test::add_noise(t.points, 0.08, 400 + seed);
-        BendRadiusResult b = measure_bend_radius(centreline, d);
-        refine_bends_with_fillets(b, centreline, surface, r, d);
-        ASSERT_TRUE(b.min_radius_mm);
-        EXPECT_NEAR(*b.min_radius_mm, radius, 0.03 * radius)
+      for (std::uint32_t seed = 1; seed <= draws; ++seed)
+        EXPECT_NEAR(refined_min_radius(t.points, d, noise_mm, seed, 400 + seed), radius, 0.03 * radius)
             << "noise " << noise_mm << ", radius " << radius << ", seed " << seed;
-      }
     }
   }
 }
@@ -114,7 +120,7 @@ TEST(FilletRefine, AFilletBendKeepsTheFilletsReading) {
 // curvature varies there: the fillet refitted on the smooth tube's narrower points reads clearly tighter than the
 // candidate's own, and the smooth tube is then taken from a ratio of 9 (8 of 12, mean +1.4 %).
 TEST(FilletRefine, AVaryingCurvatureIsMeasuredAtItsPeakInNoise) {
-  const double truth = kB * kB / kA, d = 6.0, r = 0.5 * d;
+  const double truth = kB * kB / kA, d = 6.0;
   const std::vector<Eigen::Vector3d> axis = ellipse(kA, kB, -1.0, 1.0, 0.5);
   for (const bool rule : {true, false}) {
     FilletRefineParams params;
@@ -123,13 +129,9 @@ TEST(FilletRefine, AVaryingCurvatureIsMeasuredAtItsPeakInNoise) {
     double sum = 0.0;
     const int draws = 12;
     for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-      const std::vector<Eigen::Vector3d> surface = test::tube_surface(axis, r, 0.8, seed);
-      const std::vector<Eigen::Vector3d> centreline = test::add_noise(axis, 0.08, 300 + seed);
-      BendRadiusResult b = measure_bend_radius(centreline, d);
-      refine_bends_with_fillets(b, centreline, surface, r, d, params);
-      ASSERT_TRUE(b.min_radius_mm);
-      within += std::abs(*b.min_radius_mm - truth) <= 0.05 * truth;
-      sum += *b.min_radius_mm;
+      const double radius = refined_min_radius(axis, d, 0.8, seed, 300 + seed, params);
+      within += std::abs(radius - truth) <= 0.05 * truth;
+      sum += radius;
     }
     if (rule) {
       EXPECT_GE(within, 7);
@@ -140,14 +142,13 @@ TEST(FilletRefine, AVaryingCurvatureIsMeasuredAtItsPeakInNoise) {
   }
 }
 
-
 // A helical bend (campaign scene_113's: radius 67.2 mm, rising 16.8 mm per radian, curvature radius 71.4 mm, over
 // 94 deg between straight legs) on a 13.5 mm cable. The planar fillet cannot follow its torsion and the quartic
 // can, so without the helix as the fillet's rival the smooth tube won on windows across the helix's ends, where a
 // quartic overshoots a curvature that steps: 3 of 4 draws read by it, 0.6-2.2 % low (mean -1.0 %). With the helix
 // as the rival the fillet's reading stands (within 0.25 %).
 TEST(FilletRefine, AHelicalBendIsNotReadTighterAtItsEnds) {
-  const double d = 13.5, r = 0.5 * d, truth = (67.17 * 67.17 + 16.82 * 16.82) / 67.17;
+  const double d = 13.5, truth = (67.17 * 67.17 + 16.82 * 16.82) / 67.17;
   const std::vector<Eigen::Vector3d> axis = test::helical_bend(67.17, 16.82, 94.0, 60.0, 0.5);
   for (const bool rival : {true, false}) {
     FilletRefineParams params;
@@ -155,14 +156,10 @@ TEST(FilletRefine, AHelicalBendIsNotReadTighterAtItsEnds) {
     double sum = 0.0;
     const int draws = 4;
     for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-      const std::vector<Eigen::Vector3d> surface = test::tube_surface(axis, r, 0.2, seed);
-      const std::vector<Eigen::Vector3d> centreline = test::add_noise(axis, 0.08, 300 + seed);
-      BendRadiusResult b = measure_bend_radius(centreline, d);
-      refine_bends_with_fillets(b, centreline, surface, r, d, params);
-      ASSERT_TRUE(b.min_radius_mm);
-      sum += *b.min_radius_mm;
+      const double radius = refined_min_radius(axis, d, 0.2, seed, 300 + seed, params);
+      sum += radius;
       if (rival) {
-        EXPECT_NEAR(*b.min_radius_mm, truth, 0.005 * truth) << "seed " << seed;
+        EXPECT_NEAR(radius, truth, 0.005 * truth) << "seed " << seed;
       }
     }
     if (!rival) {
