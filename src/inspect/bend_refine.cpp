@@ -204,35 +204,38 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bool explained = false;  // another candidate's looser fillet explains this one's points (see below)
   };
   std::vector<Outcome> outcomes(cands.size());
-  parallel_for_each_index(cands.size(), [&](std::size_t k) {
+  // The fillet over the window [s0, s1] (arc length): legs from the centreline's outer thirds, fitted on the window's
+  // surface points, then again on the scan around the first fit's surface. `along` keeps the refit to scan points
+  // whose nearest centreline sample lies in the window (a window trimmed short of a neighbouring bend; see
+  // FilletRefineParams::leg_max_sagitta_mm). False when there is no corner to fit.
+  const auto fit_window = [&](std::size_t k, double s0, double s1, bool along, Outcome& o) {
     const BendSample& p = bend.profile[cands[k].profile];
-    const double s0 = std::max(0.0, p.arc_mm - cands[k].half_window_mm);
-    const double s1 = std::min(total, p.arc_mm + cands[k].half_window_mm);
-    outcomes[k].s0 = s0;
-    outcomes[k].s1 = s1;
+    o.s0 = s0;
+    o.s1 = s1;
     // Legs from the centreline's outer thirds; the vertex where their lines pass closest.
     const double third = (s1 - s0) / 3.0;
     const Line l1 = fit_line(centerline, arc, s0, s0 + third), l2 = fit_line(centerline, arc, s1 - third, s1);
-    if (!l1.ok || !l2.ok) return;
+    if (!l1.ok || !l2.ok) return false;
     const Eigen::Vector3d d1 = l1.direction, d2 = l2.direction;
     const Eigen::Vector3d w0 = l1.point - l2.point;
     const double b = d1.dot(d2), den = 1.0 - b * b;
-    if (den < 1e-6) return;  // parallel legs: no corner to fit
+    if (den < 1e-6) return false;  // parallel legs: no corner to fit
     const double t1 = (b * d2.dot(w0) - d1.dot(w0)) / den, t2 = (d2.dot(w0) - b * d1.dot(w0)) / den;
     const Eigen::Vector3d q1 = l1.point + t1 * d1, q2 = l2.point + t2 * d2;
     FilletModel init;
     init.vertex = 0.5 * (q1 + q2);
     const Eigen::Vector3d centre = at_arc(centerline, arc, p.arc_mm);
-    if ((init.vertex - centre).norm() > cands[k].half_window_mm) return;
+    if ((init.vertex - centre).norm() > cands[k].half_window_mm) return false;
     init.leg1 = (at_arc(centerline, arc, s0) - init.vertex).normalized();
     init.leg2 = (at_arc(centerline, arc, s1) - init.vertex).normalized();
-    if (!init.leg1.allFinite() || !init.leg2.allFinite() || init.turn_rad() < 1e-3) return;
+    if (!init.leg1.allFinite() || !init.leg2.allFinite() || init.turn_rad() < 1e-3) return false;
     init.bend_radius_mm = std::clamp(p.radius_mm, 0.5 * diameter_mm, 50.0 * diameter_mm);
     init.tube_radius_mm = tube_radius_mm;
-    outcomes[k].init = init;
+    o.init = init;
     // The window's surface points: those whose nearest centreline sample lies inside it.
-    Outcome& o = outcomes[k];
     std::vector<Eigen::Vector3d>& pts = o.pts;
+    pts.clear();
+    o.scales.clear();
     for (std::size_t i = 0; i < surface_points.size(); ++i)
       if (point_arc[i] >= s0 && point_arc[i] <= s1) pts.push_back(surface_points[i]);
     o.fit = fit_fillet(pts, init, params.fit);
@@ -244,7 +247,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const auto dist = [&](const Eigen::Vector3d& y) { return fillet_centreline_distance(m1, y); };
       std::vector<Eigen::Vector3d> again = scan_points_near(
           scan, m1.vertex, cands[k].half_window_mm + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
-            return std::abs(dist(x) - m1.tube_radius_mm) <= band && faces_sensor(scan, dist, x, params.facing_min_cos);
+            if (!(std::abs(dist(x) - m1.tube_radius_mm) <= band && faces_sensor(scan, dist, x, params.facing_min_cos)))
+              return false;
+            if (!along) return true;
+            const Neighbor nb = cl_tree.nearest(x.cast<float>());
+            return nb.index != UINT32_MAX && arc[nb.index] >= s0 && arc[nb.index] <= s1;
           });
       std::vector<double> again_scales;
       if (scan.has_sensor && params.ray_noise_weights) again_scales = ray_noise_scales(again, m1, scan.sensor_position);
@@ -255,6 +262,71 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         scales.swap(again_scales);
       }
     }
+    return true;
+  };
+  // How far the centreline samples with arc length in [a, b] stray from the line `l` (its largest distance).
+  const auto stray = [&](const Line& l, double a, double b) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < centerline.size(); ++i)
+      if (arc[i] >= std::min(a, b) && arc[i] <= std::max(a, b)) {
+        const Eigen::Vector3d r = centerline[i] - l.point;
+        worst = std::max(worst, (r - r.dot(l.direction) * l.direction).norm());
+      }
+    return worst;
+  };
+  // A leg from its tangent point `from` out to the window's end `to` (arc lengths) is bent when the centreline there
+  // strays more than leg_limit from its own line. It is then cut where the centreline leaves the line of the leg's
+  // near part (its first third, at least leg_min_diameters) by more than leg_limit, at the last sample before that
+  // within a third of it (where the next bend begins, about). Returns the leg's end.
+  const double leg_limit = std::max(params.leg_max_sagitta_mm, params.leg_sagitta_noise_factor * bend.noise_mm);
+  const auto straight_leg_end = [&](double from, double to) {
+    const double dir = to > from ? 1.0 : -1.0;
+    const double near_end = from + dir * std::max(params.leg_min_diameters * diameter_mm, std::abs(to - from) / 3.0);
+    if (dir * (to - near_end) <= 0) return to;
+    const Line whole = fit_line(centerline, arc, std::min(from, to), std::max(from, to));
+    if (!whole.ok || stray(whole, from, to) <= leg_limit) return to;
+    const Line near = fit_line(centerline, arc, std::min(from, near_end), std::max(from, near_end));
+    if (!near.ok) return to;
+    double end = near_end, quiet = near_end;
+    for (std::size_t j = 0; j < centerline.size(); ++j) {
+      const std::size_t i = dir > 0 ? j : centerline.size() - 1 - j;
+      if (dir * (arc[i] - near_end) <= 0) continue;
+      if (dir * (arc[i] - to) > 0) break;
+      const double e = stray(near, arc[i], arc[i]);
+      if (e > leg_limit) return quiet;  // left the line: back to where it was still within a third of the limit
+      if (e <= leg_limit / 3.0) quiet = arc[i];
+      end = arc[i];
+    }
+    return end;
+  };
+  parallel_for_each_index(cands.size(), [&](std::size_t k) {
+    const BendSample& p = bend.profile[cands[k].profile];
+    const double s0 = std::max(0.0, p.arc_mm - cands[k].half_window_mm);
+    const double s1 = std::min(total, p.arc_mm + cands[k].half_window_mm);
+    Outcome& o = outcomes[k];
+    if (!fit_window(k, s0, s1, false, o)) return;
+    // Legs that bend (the window reaching into a neighbouring bend): again over their straight parts only, and once
+    // more from that fit's tangent points (the first, pulled by the bent leg, misplaces them).
+    for (int pass = 0; pass < 2 && params.leg_max_sagitta_mm > 0 && o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm);
+         ++pass) {
+      const FilletModel& m = o.fit.model;
+      const double tangent = m.bend_radius_mm * std::tan(0.5 * m.turn_rad());
+      const Neighbor n1 = cl_tree.nearest((m.vertex + tangent * m.leg1).cast<float>());
+      const Neighbor n2 = cl_tree.nearest((m.vertex + tangent * m.leg2).cast<float>());
+      if (n1.index == UINT32_MAX || n2.index == UINT32_MAX) break;
+      const double a1 = std::min(arc[n1.index], arc[n2.index]), a2 = std::max(arc[n1.index], arc[n2.index]);
+      const double w0 = o.s0, w1 = o.s1;
+      const double e0 = a1 > w0 ? straight_leg_end(a1, w0) : w0, e1 = a2 < w1 ? straight_leg_end(a2, w1) : w1;
+      if (!(e0 > w0 + 1e-9 || e1 < w1 - 1e-9)) break;
+      Outcome t;
+      const bool fitted = fit_window(k, e0, e1, true, t);
+      o = std::move(t);
+      if (!fitted) return;  // no corner over the straight legs: the circle figure stands
+    }
+    const Eigen::Vector3d centre = at_arc(centerline, arc, p.arc_mm);
+    const FilletModel& init = *o.init;
+    std::vector<Eigen::Vector3d>& pts = o.pts;
+    std::vector<double>& scales = o.scales;
     FilletFit& f = o.fit;
     // The shape of a bend (a fit that did not converge may still bound the radius: see below).
     const bool shaped = std::isfinite(f.model.bend_radius_mm) && std::isfinite(f.bend_radius_se_mm) &&
