@@ -274,17 +274,19 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       }
     return worst;
   };
-  // A leg from its tangent point `from` out to the window's end `to` (arc lengths) is bent when the centreline there
-  // strays more than leg_limit from its own line. It is then cut where the centreline leaves the line of the leg's
-  // near part (its first third, at least leg_min_diameters) by more than leg_limit, at the last sample before that
-  // within a third of it (where the next bend begins, about). Returns the leg's end.
+  // A leg from its tangent point `from` out to the window's end `to` (arc lengths) is bent when the centreline over
+  // its outer quarter strays more than leg_limit from the leg's line. It is then cut where the centreline leaves the
+  // line of the leg's near part (its first third, at least leg_min_diameters) by more than leg_limit, at the last
+  // sample before that within a third of it (where the next bend begins, about). Returns the leg's end.
   const double leg_limit = std::max(params.leg_max_sagitta_mm, params.leg_sagitta_noise_factor * bend.noise_mm);
   const auto straight_leg_end = [&](double from, double to) {
     const double dir = to > from ? 1.0 : -1.0;
     const double near_end = from + dir * std::max(params.leg_min_diameters * diameter_mm, std::abs(to - from) / 3.0);
     if (dir * (to - near_end) <= 0) return to;
+    // Bent: its outer quarter strays from the leg's line (a next bend grows away towards the end; a local wiggle
+    // of the chain, at a clamp, does not).
     const Line whole = fit_line(centerline, arc, std::min(from, to), std::max(from, to));
-    if (!whole.ok || stray(whole, from, to) <= leg_limit) return to;
+    if (!whole.ok || stray(whole, to - 0.25 * (to - from), to) <= leg_limit) return to;
     const Line near = fit_line(centerline, arc, std::min(from, near_end), std::max(from, near_end));
     if (!near.ok) return to;
     double end = near_end, quiet = near_end;
@@ -307,8 +309,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     if (!fit_window(k, s0, s1, false, o)) return;
     // Legs that bend (the window reaching into a neighbouring bend): again over their straight parts only, and once
     // more from that fit's tangent points (the first, pulled by the bent leg, misplaces them).
-    for (int pass = 0; pass < 2 && params.leg_max_sagitta_mm > 0 && o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm);
-         ++pass) {
+    for (int pass = 0;
+         pass < 2 && params.leg_max_sagitta_mm > 0 && o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm); ++pass) {
       const FilletModel& m = o.fit.model;
       const double tangent = m.bend_radius_mm * std::tan(0.5 * m.turn_rad());
       const Neighbor n1 = cl_tree.nearest((m.vertex + tangent * m.leg1).cast<float>());

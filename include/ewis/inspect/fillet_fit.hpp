@@ -95,13 +95,15 @@ struct FilletRefineParams {
   double leg_diameters = 2.0;         // each window reaches this far beyond the circle window's half-length ...
   double min_half_window_diameters = 3.0;  // ... and at least this far from the bend's centre
   // A leg must be straight. A leg (from the fit's tangent point to the window's end) is bent where the centreline
-  // there strays from its own line by more than leg_max_sagitta_mm or leg_sagitta_noise_factor x the centreline's
-  // noise (BendRadiusResult::noise_mm; straight legs on the campaign: up to about 4x), as when the window reaches into
-  // the next bend. The window is then cut back to where the centreline leaves the line of the leg's near part (its
-  // first third, at least leg_min_diameters) by that much, at the last sample still within a third of it, and the bend
-  // fitted again there (its refit on the scan kept to points along the window), twice at most (the second from the
-  // new fit's tangent points). 0: off. Campaign scene_106: a 58 mm arc, 11.5 mm of straight, then a 124 mm arc; the
-  // window's second leg took 25 mm of the loose arc and read 52.4 mm.
+  // over its outer quarter strays from the leg's line by more than leg_max_sagitta_mm or leg_sagitta_noise_factor x
+  // the centreline's noise (BendRadiusResult::noise_mm; straight legs on the campaign: up to about 4x), as when the
+  // window reaches into the next bend (a local wiggle of the chain, at a clamp, strays in the middle: with the whole
+  // leg tested, one 1.5x-noise scene's straight leg was cut to a diameter and its bend read 3.9 -> 7.3 % low). The
+  // window is then cut back to where the centreline leaves the line of the leg's near part (its first third, at least
+  // leg_min_diameters) by that much, at the last sample still within a third of it, and the bend fitted again there
+  // (its refit on the scan kept to points along the window), twice at most (the second from the new fit's tangent
+  // points). 0: off. Campaign scene_106: a 58 mm arc, 11.5 mm of straight, then a 124 mm arc; the window's second
+  // leg took 25 mm of the loose arc and read 52.4 mm.
   double leg_max_sagitta_mm = 0.15;
   double leg_sagitta_noise_factor = 6.0;
   double leg_min_diameters = 1.0;
