@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "ewis/core/parallel.hpp"
 #include "ewis/inspect/distance_gradient.hpp"
@@ -93,6 +94,18 @@ std::vector<Eigen::Vector3d> scan_points_near(const FilletScan& scan, const Eige
 template <class Dist>
 bool faces_sensor(const FilletScan& scan, const Dist& dist, const Eigen::Vector3d& x, double min_cos) {
   return !scan.has_sensor || facing_cosine(dist, x, scan.sensor_position) >= min_cos;
+}
+
+// Where a fillet's arc meets its legs (leg 1's side first).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> fillet_tangent_points(const FilletModel& m) {
+  const double tangent = m.bend_radius_mm * std::tan(0.5 * m.turn_rad());
+  return {m.vertex + tangent * m.leg1, m.vertex + tangent * m.leg2};
+}
+
+// The distance of x from the line l.
+double line_distance(const Line& l, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d r = x - l.point;
+  return (r - r.dot(l.direction) * l.direction).norm();
 }
 
 // The middle of a fillet's arc.
@@ -204,6 +217,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bool explained = false;  // another candidate's looser fillet explains this one's points (see below)
   };
   std::vector<Outcome> outcomes(cands.size());
+  // The arc length of the centreline sample nearest to x (-1 when there is none).
+  const auto arc_of = [&](const Eigen::Vector3d& x) {
+    const Neighbor nb = cl_tree.nearest(x.cast<float>());
+    return nb.index == UINT32_MAX ? -1.0 : arc[nb.index];
+  };
   // The fillet over the window [s0, s1] (arc length): legs from the centreline's outer thirds, fitted on the window's
   // surface points, then again on the scan around the first fit's surface. `along` keeps the refit to scan points
   // whose nearest centreline sample lies in the window (a window trimmed short of a neighbouring bend; see
@@ -250,8 +268,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
             if (!(std::abs(dist(x) - m1.tube_radius_mm) <= band && faces_sensor(scan, dist, x, params.facing_min_cos)))
               return false;
             if (!along) return true;
-            const Neighbor nb = cl_tree.nearest(x.cast<float>());
-            return nb.index != UINT32_MAX && arc[nb.index] >= s0 && arc[nb.index] <= s1;
+            const double ax = arc_of(x);
+            return ax >= s0 && ax <= s1;
           });
       std::vector<double> again_scales;
       if (scan.has_sensor && params.ray_noise_weights) again_scales = ray_noise_scales(again, m1, scan.sensor_position);
@@ -268,10 +286,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   const auto stray = [&](const Line& l, double a, double b) {
     double worst = 0.0;
     for (std::size_t i = 0; i < centerline.size(); ++i)
-      if (arc[i] >= std::min(a, b) && arc[i] <= std::max(a, b)) {
-        const Eigen::Vector3d r = centerline[i] - l.point;
-        worst = std::max(worst, (r - r.dot(l.direction) * l.direction).norm());
-      }
+      if (arc[i] >= std::min(a, b) && arc[i] <= std::max(a, b))
+        worst = std::max(worst, line_distance(l, centerline[i]));
     return worst;
   };
   // A leg from its tangent point `from` out to the window's end `to` (arc lengths) is bent when the centreline over
@@ -294,7 +310,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const std::size_t i = dir > 0 ? j : centerline.size() - 1 - j;
       if (dir * (arc[i] - near_end) <= 0) continue;
       if (dir * (arc[i] - to) > 0) break;
-      const double e = stray(near, arc[i], arc[i]);
+      const double e = line_distance(near, centerline[i]);
       if (e > leg_limit) return quiet;  // left the line: back to where it was still within a third of the limit
       if (e <= leg_limit / 3.0) quiet = arc[i];
       end = arc[i];
@@ -311,12 +327,10 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // more from that fit's tangent points (the first, pulled by the bent leg, misplaces them).
     for (int pass = 0;
          pass < 2 && params.leg_max_sagitta_mm > 0 && o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm); ++pass) {
-      const FilletModel& m = o.fit.model;
-      const double tangent = m.bend_radius_mm * std::tan(0.5 * m.turn_rad());
-      const Neighbor n1 = cl_tree.nearest((m.vertex + tangent * m.leg1).cast<float>());
-      const Neighbor n2 = cl_tree.nearest((m.vertex + tangent * m.leg2).cast<float>());
-      if (n1.index == UINT32_MAX || n2.index == UINT32_MAX) break;
-      const double a1 = std::min(arc[n1.index], arc[n2.index]), a2 = std::max(arc[n1.index], arc[n2.index]);
+      const auto [p1, p2] = fillet_tangent_points(o.fit.model);
+      const double t1 = arc_of(p1), t2 = arc_of(p2);
+      if (t1 < 0 || t2 < 0) break;
+      const double a1 = std::min(t1, t2), a2 = std::max(t1, t2);
       const double w0 = o.s0, w1 = o.s1;
       const double e0 = a1 > w0 ? straight_leg_end(a1, w0) : w0, e1 = a2 < w1 ? straight_leg_end(a2, w1) : w1;
       if (!(e0 > w0 + 1e-9 || e1 < w1 - 1e-9)) break;
@@ -515,10 +529,6 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   // agrees with it, is a bend of its own only where its points there reject the looser fillet's model
   // (FilletRefineParams::explained_*).
   const auto fillet_reading = [&](const Outcome& o) { return o.ok && !o.bound && !o.smooth; };
-  const auto arc_of = [&](const Eigen::Vector3d& x) {
-    const Neighbor nb = cl_tree.nearest(x.cast<float>());
-    return nb.index == UINT32_MAX ? -1.0 : arc[nb.index];
-  };
   if (params.explained_min_log_likelihood_ratio > 0) {
     parallel_for_each_index(cands.size(), [&](std::size_t k) {
       Outcome& o = outcomes[k];
@@ -534,8 +544,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
           continue;
         // This arc's middle between the looser arc's tangent points (along the centreline).
         const FilletModel& m = l.fit.model;
-        const double tangent = m.bend_radius_mm * std::tan(0.5 * m.turn_rad());
-        const double t1 = arc_of(m.vertex + tangent * m.leg1), t2 = arc_of(m.vertex + tangent * m.leg2);
+        const auto [p1, p2] = fillet_tangent_points(m);
+        const double t1 = arc_of(p1), t2 = arc_of(p2);
         if (!(mid_arc >= std::min(t1, t2) && mid_arc <= std::max(t1, t2))) continue;
         // The two radii agree within their errors (a spline's curvature peak read by the narrower fit does not).
         if (!(m.bend_radius_mm - o.fit.model.bend_radius_mm <

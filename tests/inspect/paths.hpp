@@ -7,6 +7,11 @@
 #include <random>
 #include <vector>
 
+#include <gtest/gtest.h>
+
+#include "ewis/inspect/bend_radius.hpp"
+#include "ewis/inspect/fillet_fit.hpp"
+
 namespace ewis::test {
 
 struct Turtle {
@@ -81,6 +86,20 @@ inline std::vector<Eigen::Vector3d> tube_surface(const std::vector<Eigen::Vector
     }
   }
   return pts;
+}
+
+// The cable's minimum bend radius through the whole refinement: the circle windows on the centreline (noise
+// `centreline_noise_mm` per axis), then the fits on the upper-half surface points of a tube of radius d / 2 with
+// `noise_mm` along the rays.
+inline double refined_min_radius(const std::vector<Eigen::Vector3d>& axis, double d, double noise_mm,
+                                 std::uint32_t seed, std::uint32_t centreline_seed,
+                                 const FilletRefineParams& params = {}, double centreline_noise_mm = 0.08) {
+  const std::vector<Eigen::Vector3d> surface = tube_surface(axis, 0.5 * d, noise_mm, seed);
+  const std::vector<Eigen::Vector3d> centreline = add_noise(axis, centreline_noise_mm, centreline_seed);
+  BendRadiusResult b = measure_bend_radius(centreline, d);
+  refine_bends_with_fillets(b, centreline, surface, 0.5 * d, d, params);
+  EXPECT_TRUE(b.min_radius_mm) << "seed " << seed;
+  return b.min_radius_mm.value_or(0.0);
 }
 
 }  // namespace ewis::test

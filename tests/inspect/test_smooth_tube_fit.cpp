@@ -25,17 +25,6 @@ std::vector<Eigen::Vector3d> ellipse(double A, double B, double t0, double t1, d
 
 constexpr double kA = 80.0, kB = 50.0;  // smallest radius 31.25 mm, 95 mm at t = +-1
 
-// The cable's minimum bend radius through the whole refinement: the circle windows on the centreline (0.08 mm noise),
-// then the fits on the upper-half surface points of a tube of radius d / 2 with `noise_mm` along the rays.
-double refined_min_radius(const std::vector<Eigen::Vector3d>& axis, double d, double noise_mm, std::uint32_t seed,
-                          std::uint32_t centreline_seed, const FilletRefineParams& params = {}) {
-  const std::vector<Eigen::Vector3d> surface = test::tube_surface(axis, 0.5 * d, noise_mm, seed);
-  const std::vector<Eigen::Vector3d> centreline = test::add_noise(axis, 0.08, centreline_seed);
-  BendRadiusResult b = measure_bend_radius(centreline, d);
-  refine_bends_with_fillets(b, centreline, surface, 0.5 * d, d, params);
-  EXPECT_TRUE(b.min_radius_mm) << "seed " << seed;
-  return b.min_radius_mm.value_or(0.0);
-}
 
 }  // namespace
 
@@ -109,7 +98,7 @@ TEST(FilletRefine, AFilletBendKeepsTheFilletsReading) {
       t.arc(radius, 50.0, t.dir.cross(-Eigen::Vector3d::UnitZ()));
       t.straight(80);
       for (std::uint32_t seed = 1; seed <= draws; ++seed)
-        EXPECT_NEAR(refined_min_radius(t.points, d, noise_mm, seed, 400 + seed), radius, 0.03 * radius)
+        EXPECT_NEAR(test::refined_min_radius(t.points, d, noise_mm, seed, 400 + seed), radius, 0.03 * radius)
             << "noise " << noise_mm << ", radius " << radius << ", seed " << seed;
     }
   }
@@ -129,7 +118,7 @@ TEST(FilletRefine, AVaryingCurvatureIsMeasuredAtItsPeakInNoise) {
     double sum = 0.0;
     const int draws = 12;
     for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-      const double radius = refined_min_radius(axis, d, 0.8, seed, 300 + seed, params);
+      const double radius = test::refined_min_radius(axis, d, 0.8, seed, 300 + seed, params);
       within += std::abs(radius - truth) <= 0.05 * truth;
       sum += radius;
     }
@@ -156,7 +145,7 @@ TEST(FilletRefine, AHelicalBendIsNotReadTighterAtItsEnds) {
     double sum = 0.0;
     const int draws = 4;
     for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-      const double radius = refined_min_radius(axis, d, 0.2, seed, 300 + seed, params);
+      const double radius = test::refined_min_radius(axis, d, 0.2, seed, 300 + seed, params);
       sum += radius;
       if (rival) {
         EXPECT_NEAR(radius, truth, 0.005 * truth) << "seed " << seed;
