@@ -215,6 +215,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     std::vector<double> scales;
     double s0 = 0.0, s1 = 0.0;  // the window (arc length along the centreline)
     bool explained = false;  // another candidate's looser fillet explains this one's points (see below)
+    bool narrow = false;  // the fillet over the smooth tube's narrower window reads it (FilletRefineParams::narrow_*)
+    FilletFit narrow_fit;
   };
   std::vector<Outcome> outcomes(cands.size());
   // The arc length of the centreline sample nearest to x (-1 when there is none).
@@ -463,9 +465,10 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       break;
     }
     const double R = sf.bend_radius_mm, se = sf.bend_radius_se_mm;
-    if (!(R <= 100.0 * diameter_mm) || !(R >= sf.model.tube_radius_mm) || !(se <= params.max_se_fraction * R) ||
-        std::abs(sf.model.tube_radius_mm - tube_radius_mm) > params.smooth_tube_radius_tolerance * tube_radius_mm)
-      return;
+    const bool smooth_usable = R <= 100.0 * diameter_mm && R >= sf.model.tube_radius_mm &&
+                               se <= params.max_se_fraction * R &&
+                               std::abs(sf.model.tube_radius_mm - tube_radius_mm) <=
+                                   params.smooth_tube_radius_tolerance * tube_radius_mm;
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
     if (!o.init) return;
     std::vector<Eigen::Vector3d> over;
@@ -477,12 +480,34 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     const double c = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
     const double sigma2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
     const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);
+    // The fillet over the narrower window where it reads clearly tighter (see FilletRefineParams::narrow_min_z).
+    std::optional<FilletFit> rival_early;
+    if (params.narrow_min_z > 0 && fillet_shaped && o.fit.ok && !o.bound) {
+      rival_early = fit_fillet(over, start, params.fit);
+      FilletFit n = *rival_early;
+      // A fit stopped by its iteration limit with its radius settled (a flat direction of the vertex or a leg
+      // still creeping) is taken when a second run from it leaves the radius where it was.
+      if (!n.ok && std::isfinite(n.model.bend_radius_mm) && n.model.turn_rad() > 1e-3) {
+        const FilletFit again = fit_fillet(over, n.model, params.fit);
+        if (std::abs(again.model.bend_radius_mm - n.model.bend_radius_mm) <= 0.05 * again.bend_radius_se_mm) {
+          n = again;
+          n.ok = true;
+        }
+      }
+      const double rw = o.fit.model.bend_radius_mm, rn = n.model.bend_radius_mm;
+      const double sw = o.fit.bend_radius_se_mm, sn = n.bend_radius_se_mm;
+      const double sd = std::sqrt(std::max(sn * sn - sw * sw, 0.25 * sn * sn));
+      o.narrow = n.ok && std::isfinite(rn) && rn >= n.model.tube_radius_mm && n.model.turn_rad() > 1e-3 &&
+                 sn <= params.narrow_max_se_fraction * rn && rw - rn >= params.narrow_min_z * sd;
+      if (o.narrow) o.narrow_fit = std::move(n);
+    }
+    if (!smooth_usable) return;
     // The fillet as it stands first: refitted on these points it can only fit better, so a ratio already short of
     // the threshold needs no refit (most candidates; the refit is the costly part).
     const double min_ratio =
         std::min(params.smooth_min_log_likelihood_ratio, params.smooth_varying_min_log_likelihood_ratio);
     if (!(2.0 * (fillet_robust_cost(over, start, c) - smooth_cost) / sigma2 >= min_ratio)) return;
-    const FilletFit rival = fit_fillet(over, start, params.fit);
+    const FilletFit rival = rival_early ? std::move(*rival_early) : fit_fillet(over, start, params.fit);
     const double rival_cost = fillet_robust_cost(over, rival.model, c);
     const double ratio = 2.0 * (rival_cost - smooth_cost) / sigma2;
     if (!(ratio >= min_ratio)) return;
@@ -592,6 +617,13 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       r = outcomes[k].smooth_fit.bend_radius_mm;
       se = outcomes[k].smooth_fit.bend_radius_se_mm;
       where = outcomes[k].smooth_fit.peak_point;
+    } else if (outcomes[k].narrow) {
+      ++refined;
+      const FilletModel& m = outcomes[k].narrow_fit.model;
+      model = "fillet";
+      r = m.bend_radius_mm;
+      se = outcomes[k].narrow_fit.bend_radius_se_mm;
+      where = fillet_arc_middle(m);
     } else if (outcomes[k].ok) {
       ++refined;
       bound = outcomes[k].bound;

@@ -199,6 +199,22 @@ struct FilletRefineParams {
   // axis to follow it and read 130 mm for a 244 mm cable (fillet 307 mm: 0.42), a false bend alarm
   // (bench/spline_scenes.py --bundle 3, seed 7, scene_012).
   double smooth_min_fillet_ratio = 0.5;
+  // A fillet's window over a curvature peak. Where the smooth tube is not taken, the fillet refitted on its points
+  // (the narrower window, centred on the peak) reads the candidate when it is tighter than the candidate's own
+  // fillet by at least narrow_min_z standard errors of the difference, sqrt(se_narrow^2 - se_wide^2) (nested fits
+  // of one model: the Hausman test), at least se_narrow / 2. An arc reads the same over both windows; a spline's
+  // peak reads tighter over the narrower one, where both models often misfit it alike and the smooth tube's
+  // likelihood ratio stays under 9 (S30 scene_022: fillet 91.11 +- 0.50 mm over 64 mm, 87.05 +- 2.04 over 34 mm,
+  // smooth tube 84.67 +- 5.15 at a ratio of 1.6, truth 83.22). Bends of 3-20 d within 5 % on the spline sets
+  // S30 / S20 / B30 / T20: 29 / 19 / 14 / 15 without, 33 / 20 / 16 / 17 at 3 (C 184/193, 4 of its 208 bends moved by
+  // under 2.5 %); at 2 S30 gained one more, but 15 of C's arcs moved 2-4 % low (the differences on C's candidates
+  // run about 1.3 times wider than the formula: 5 of 152 at 2). <= 0: off.
+  double narrow_min_z = 3.0;
+  // ... and when it is known to narrow_max_se_fraction of its radius: on a thin cable's helix at 0.3 mm noise (the
+  // 1.5x noise set N, scene_037: 4.4 mm cable, 48.8 mm helix) a 26 mm window read 34.3 +- 3.0 mm (8.8 %) where the
+  // wider one read 50.5 +- 0.7, "5.5 standard errors" that were the short window's bias; the spline peaks that
+  // gained read to 1-4 %.
+  double narrow_max_se_fraction = 0.05;
   // The cable's minimum is the re-measured bend with the least radius + choice_se_factor x its standard
   // error, so an imprecise fit cannot raise a false alarm on its own. At 2 a short tight arc fitted right
   // (40.7 +- 4.6 mm for a 40.1 mm truth) lost to a long looser one (47.5 +- 1.1 mm) by under 0.5 mm on 3 of
