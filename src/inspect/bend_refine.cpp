@@ -487,18 +487,18 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       FilletFit n = *rival_early;
       // A fit stopped by its iteration limit with its radius settled (a flat direction of the vertex or a leg
       // still creeping) is taken when a second run from it leaves the radius where it was.
-      if (!n.ok && std::isfinite(n.model.bend_radius_mm) && n.model.turn_rad() > 1e-3) {
-        const FilletFit again = fit_fillet(over, n.model, params.fit);
-        if (std::abs(again.model.bend_radius_mm - n.model.bend_radius_mm) <= 0.05 * again.bend_radius_se_mm) {
-          n = again;
-          n.ok = true;
-        }
+      bool settled = n.ok;
+      if (!settled && std::isfinite(n.model.bend_radius_mm) && n.model.turn_rad() > 1e-3) {
+        FilletFit again = fit_fillet(over, n.model, params.fit);
+        settled = std::isfinite(again.model.bend_radius_mm) && again.model.turn_rad() > 1e-3 &&
+                  std::abs(again.model.bend_radius_mm - n.model.bend_radius_mm) <= 0.05 * again.bend_radius_se_mm;
+        if (settled) n = std::move(again);
       }
       const double rw = o.fit.model.bend_radius_mm, rn = n.model.bend_radius_mm;
       const double sw = o.fit.bend_radius_se_mm, sn = n.bend_radius_se_mm;
       const double sd = std::sqrt(std::max(sn * sn - sw * sw, 0.25 * sn * sn));
-      o.narrow = n.ok && std::isfinite(rn) && rn >= n.model.tube_radius_mm && n.model.turn_rad() > 1e-3 &&
-                 sn <= params.narrow_max_se_fraction * rn && rw - rn >= params.narrow_min_z * sd;
+      o.narrow = settled && rn >= n.model.tube_radius_mm && sn <= params.narrow_max_se_fraction * rn &&
+                 rw - rn >= params.narrow_min_z * sd;
       if (o.narrow) o.narrow_fit = std::move(n);
     }
     if (!smooth_usable) return;
@@ -617,21 +617,14 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       r = outcomes[k].smooth_fit.bend_radius_mm;
       se = outcomes[k].smooth_fit.bend_radius_se_mm;
       where = outcomes[k].smooth_fit.peak_point;
-    } else if (outcomes[k].narrow) {
+    } else if (outcomes[k].ok || outcomes[k].narrow) {
       ++refined;
-      const FilletModel& m = outcomes[k].narrow_fit.model;
-      model = "fillet";
-      r = m.bend_radius_mm;
-      se = outcomes[k].narrow_fit.bend_radius_se_mm;
-      where = fillet_arc_middle(m);
-    } else if (outcomes[k].ok) {
-      ++refined;
-      bound = outcomes[k].bound;
+      bound = outcomes[k].bound;  // never with a narrower reading
       model = bound ? "bound" : "fillet";
-      const FilletModel& m = outcomes[k].fit.model;
-      r = m.bend_radius_mm;
-      se = outcomes[k].fit.bend_radius_se_mm;
-      where = fillet_arc_middle(m);
+      const FilletFit& f = outcomes[k].narrow ? outcomes[k].narrow_fit : outcomes[k].fit;
+      r = f.model.bend_radius_mm;
+      se = f.bend_radius_se_mm;
+      where = fillet_arc_middle(f.model);
     }
     const double score = r + params.choice_se_factor * se;
     if (score < best_score) {

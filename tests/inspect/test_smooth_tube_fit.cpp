@@ -25,6 +25,22 @@ std::vector<Eigen::Vector3d> ellipse(double A, double B, double t0, double t1, d
 
 constexpr double kA = 80.0, kB = 50.0;  // smallest radius 31.25 mm, 95 mm at t = +-1
 
+// Draws of test::refined_min_radius (surface seeds 1.., centreline seeds 301..): how many within 5 % of `truth`, and
+// their mean.
+struct Draws {
+  int within = 0;
+  double mean_mm = 0.0;
+};
+Draws refined_draws(const std::vector<Eigen::Vector3d>& axis, double d, double noise_mm, int draws, double truth,
+                    const FilletRefineParams& params) {
+  Draws out;
+  for (std::uint32_t seed = 1; seed <= std::uint32_t(draws); ++seed) {
+    const double radius = test::refined_min_radius(axis, d, noise_mm, seed, 300 + seed, params);
+    out.within += std::abs(radius - truth) <= 0.05 * truth;
+    out.mean_mm += radius / draws;
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -119,19 +135,12 @@ TEST(FilletRefine, AVaryingCurvatureIsMeasuredAtItsPeakInNoise) {
       params.smooth_varying_min_log_likelihood_ratio = params.smooth_min_log_likelihood_ratio;
       params.narrow_min_z = 0.0;
     }
-    int within = 0;
-    double sum = 0.0;
-    const int draws = 12;
-    for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-      const double radius = test::refined_min_radius(axis, d, 0.8, seed, 300 + seed, params);
-      within += std::abs(radius - truth) <= 0.05 * truth;
-      sum += radius;
-    }
+    const Draws r = refined_draws(axis, d, 0.8, 12, truth, params);
     if (rule) {
-      EXPECT_GE(within, 7);
-      EXPECT_NEAR(sum / draws, truth, 0.025 * truth);
+      EXPECT_GE(r.within, 7);
+      EXPECT_NEAR(r.mean_mm, truth, 0.025 * truth);
     } else {
-      EXPECT_LE(within, 5);
+      EXPECT_LE(r.within, 5);
     }
   }
 }
@@ -172,20 +181,13 @@ TEST(FilletRefine, ANarrowerWindowReadsASplinesPeak) {
   for (const bool rule : {true, false}) {
     FilletRefineParams params;
     if (!rule) params.narrow_min_z = 0.0;
-    int within = 0;
-    double sum = 0.0;
-    const int draws = 6;
-    for (std::uint32_t seed = 1; seed <= draws; ++seed) {
-      const double radius = test::refined_min_radius(axis, d, 0.2, seed, 300 + seed, params);
-      within += std::abs(radius - truth) <= 0.05 * truth;
-      sum += radius;
-    }
+    const Draws r = refined_draws(axis, d, 0.2, 6, truth, params);
     if (rule) {
-      EXPECT_GE(within, 3);
-      EXPECT_LT(sum / draws, 1.045 * truth);
+      EXPECT_GE(r.within, 3);
+      EXPECT_LT(r.mean_mm, 1.045 * truth);
     } else {
-      EXPECT_LE(within, 1);
-      EXPECT_GT(sum / draws, 1.05 * truth);
+      EXPECT_LE(r.within, 1);
+      EXPECT_GT(r.mean_mm, 1.05 * truth);
     }
   }
 }
