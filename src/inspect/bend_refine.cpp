@@ -341,6 +341,17 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       o = std::move(t);
       if (!fitted) return;  // no corner over the straight legs: the circle figure stands
     }
+    // Both legs seen (FilletRefineParams::min_seen_leg_diameters).
+    if (o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm)) {
+      const auto [p1, p2] = fillet_tangent_points(o.fit.model);
+      const double t1 = arc_of(p1), t2 = arc_of(p2);
+      const double seen = params.min_seen_leg_diameters * diameter_mm;
+      const double leg1 = std::min(t1, t2) - o.s0, leg2 = o.s1 - std::max(t1, t2);
+      if (t1 >= 0 && t2 >= 0 && leg1 > 0 && leg2 > 0 && std::min(leg1, leg2) < seen) {
+        o = Outcome{};
+        return;
+      }
+    }
     const Eigen::Vector3d centre = at_arc(centerline, arc, p.arc_mm);
     const FilletModel& init = *o.init;
     std::vector<Eigen::Vector3d>& pts = o.pts;

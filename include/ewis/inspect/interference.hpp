@@ -16,8 +16,8 @@
 //    ends are its untraced continuation (into a connector or clamp): both are ignored; so are mixed pixels on
 //    the cable's silhouette rays (see InterferenceParams::has_sensor);
 //  - clusters smaller than max(min_cluster_points, min_cluster_area_mm2 / resolution^2) points (about a
-//    2 x 2 mm patch at the scan's resolution) are noise; the clustering links points closer than
-//    cluster_tolerance_factor x resolution (at least 1 mm);
+//    2 x 2 mm patch at the scan's resolution; with the sensor known counted in pixels, points on one camera ray
+//    once) are noise; the clustering links points closer than cluster_tolerance_factor x resolution (at least 1 mm);
 //  - another measured cable is checked on the fitted models alone: its chain-to-chain gap below clearance_mm
 //    is an interference (a cable crossing on top shows the sensor only its far side, so no point of it lies
 //    within the clearance); its points near the crossing are the entry's points (none: not reported);
@@ -94,12 +94,26 @@ struct InterferenceParams {
   double veil_fraction = 0.6;
   double veil_radius_mm = 2.0;
   // ... and whose footprint across the mean viewing ray is at most max(veil_max_width_mm, veil_max_width_res x
-  // resolution) wide (a curtain along a depth edge is a pixel or two wide; an object seen obliquely is not).
+  // resolution) wide (a curtain along a depth edge is a pixel or two wide; an object seen obliquely is not),
+  // measured on its pixels (points on one camera ray count once) within max(veil_local_radius_mm, 6 x resolution) of
+  // each (the median over the cluster: a curtain along an edge that turns a corner or curves is narrow locally, not
+  // as a whole).
   double veil_max_width_mm = 1.5;
   double veil_max_width_res = 3.0;
+  double veil_local_radius_mm = 3.0;
+  // Pixels (points on one camera ray, see image_footprint in interference.cpp) holding points more than
+  // stack_min_spread_mm apart along the ray are stacks of mixed pixels: a sensor measures one depth per pixel, and a
+  // simulator that puts several mixed points on an edge pixel's ray makes them. A cluster whose pixels are mostly
+  // (veil_fraction) stacks is a veil whatever its shape (fresh campaign seed 6262 scene_050: 119 points on 12 pixels,
+  // 9 of them stacks, a blob 2 mm wide over a thin cable beside a 23 mm hose). A real sensor gives no stacks, and a
+  // cloud merged from several shots gives them within its noise only.
+  double stack_min_spread_mm = 1.0;
   // Breaks between the cable's runs up to this many diameters are bridged for the point checks
   // (bridge_short_breaks): an object lying over the cable splits its trace but is still near it.
+  // ... and at least bridge_break_min_mm: what hides a cable does not scale with it (campaign seed 5151 scene_005:
+  // a 14 mm box beside a 4.2 mm cable broke its trace for 25.6 mm, 6.1 diameters, and was missed).
   double bridge_break_diameters = 6.0;
+  double bridge_break_min_mm = 40.0;
   // Over a bridge the cable's own surface band is at least this many radii (the course there is guessed).
   double bridge_band_radii = 0.25;
   // A foreign cluster lying mostly over a bridge is the cable's own untraced stretch when a cylinder fitted to it
