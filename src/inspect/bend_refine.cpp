@@ -341,13 +341,22 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       o = std::move(t);
       if (!fitted) return;  // no corner over the straight legs: the circle figure stands
     }
-    // Both legs seen (FilletRefineParams::min_seen_leg_diameters).
+    // Both legs seen (FilletRefineParams::min_seen_leg_diameters): a leg shorter than that inside the window is
+    // judged on the centreline past the window's end, from its tangent point over min_seen_leg_reach_diameters, which
+    // must be there and straight.
     if (o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm)) {
       const auto [p1, p2] = fillet_tangent_points(o.fit.model);
       const double t1 = arc_of(p1), t2 = arc_of(p2);
+      const double lo = std::min(t1, t2), hi = std::max(t1, t2);
       const double seen = params.min_seen_leg_diameters * diameter_mm;
-      const double leg1 = std::min(t1, t2) - o.s0, leg2 = o.s1 - std::max(t1, t2);
-      if (t1 >= 0 && t2 >= 0 && leg1 > 0 && leg2 > 0 && std::min(leg1, leg2) < seen) {
+      const auto unseen = [&](double from, double to) {
+        if (!(std::abs(to - from) > 0 && std::abs(to - from) < seen)) return false;  // beyond the window, or long enough
+        const double reach = from + (to > from ? 1.0 : -1.0) * params.min_seen_leg_reach_diameters * diameter_mm;
+        if (reach < 0.0 || reach > total) return true;  // the run ends first
+        const Line l = fit_line(centerline, arc, std::min(from, reach), std::max(from, reach));
+        return !l.ok || stray(l, from, reach) > leg_limit;  // the bend goes on past the window
+      };
+      if (t1 >= 0 && t2 >= 0 && lo > o.s0 && hi < o.s1 && (unseen(lo, o.s0) || unseen(hi, o.s1))) {
         o = Outcome{};
         return;
       }

@@ -107,14 +107,19 @@ struct FilletRefineParams {
   double leg_max_sagitta_mm = 0.15;
   double leg_sagitta_noise_factor = 6.0;
   double leg_min_diameters = 1.0;
-  // A fillet with both tangent points inside its window must see both legs over at least min_seen_leg_diameters
-  // (one tangent point beyond the window's end leaves arc only on that side: a fit of the arc, which is fine). A
-  // window whose centre lies off the bend holds only part of a long arc; the fit then lays a "leg" on the arc's last
-  // few mm, too short for the leg test above to judge, and with the turn fixed by that leg's direction the arc is
-  // too short and reads tight (fresh campaign seed 6262 scene_050: a 50 deg arc of 78.9 mm on a 23 mm hose, its run
-  // starting 2.4 d before it, read 66.3 +- 2.0 from the window of the run's first sample, over the straight and the
-  // arc's first 38 mm, its second leg 5 mm long).
+  // A fillet with both tangent points inside its window and a leg shorter than min_seen_leg_diameters there is kept
+  // only where the centreline from that tangent point on, over min_seen_leg_reach_diameters past the window's end, is
+  // a straight line (its stray from the line fitted to it within the leg test's limit above); where the run ends
+  // first, it is not (a tangent point beyond the window's end leaves arc only on that side: a fit of the arc, kept).
+  // A window whose centre lies off the bend holds only part of a long arc; the fit then lays a "leg" on the arc's last
+  // few mm, and with the turn fixed by that leg's direction the arc is too short and reads tight (fresh campaign seed
+  // 6262 scene_050: a 50 deg arc of 78.9 mm on a 23 mm hose, its run starting 2.4 d before it, read 66.3 +- 2.0 from
+  // the window of the run's first sample, over the straight and the arc's first 38 mm, its second leg 5 mm long; the
+  // centreline past it strays 3.6 mm from a line over 3 d against a limit of 2.3). Judged on the model's own leg
+  // direction instead, a good fit with a 0.8 mm leg was refused (its leg direction, from so little leg, was 5 deg off);
+  // refusing every short leg cost a seed 5151 bend (40.96 -> 45.85 for 40.90: legs of 0.4 and 1.2 mm on straights).
   double min_seen_leg_diameters = 0.5;
+  double min_seen_leg_reach_diameters = 3.0;
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
   double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error) ...
   double max_se_fraction_vs_circle = 0.5;  // ... or to this one when it lies over 2 standard errors below the
