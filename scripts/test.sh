@@ -3,7 +3,8 @@
 # then builds the parser and geometry stages with AddressSanitizer + UndefinedBehaviorSanitizer and runs their
 # tests again (set EWIS_SANITIZE_TESTS=0 to skip that second part). The sanitized pass leaves out the statistical
 # tests of many draws (they ran in the first pass; under the sanitizers they took 2-3 minutes each, 40 % of the pass,
-# and the other tests of the same functions run their code paths).
+# and the other tests of the same functions run their code paths), and the whole inspections of several scans (the
+# touching cables' tests run the same pipeline under them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -17,7 +18,7 @@ if [ "${EWIS_SANITIZE_TESTS:-1}" != "0" ]; then
   cmake --preset asan >/dev/null
   cmake --build build-asan -j "$jobs" --target $targets
   label_regex="^($(echo $sanitized | tr ' ' '|'))\$"
-  many_draws="FilletRefine\.(AVaryingCurvatureIsMeasuredAtItsPeakInNoise|AnArcsEndIsNoTighterBend|AShortTightArcBeatsALongLooserOne|ANarrowerWindowReadsASplinesPeak)\$"
+  many_draws="(FilletRefine\.(AVaryingCurvatureIsMeasuredAtItsPeakInNoise|AnArcsEndIsNoTighterBend|AShortTightArcBeatsALongLooserOne|ANarrowerWindowReadsASplinesPeak)|ScannedBend\.AWindowCuttingAnArcIsNoReading)\$"
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs" --timeout 900 -L "$label_regex" -E "$many_draws"
 fi

@@ -121,6 +121,24 @@ struct Candidate {
 
 }  // namespace
 
+bool arc_goes_on_past_leg(const std::vector<Eigen::Vector3d>& centerline, const std::vector<double>& arc_mm,
+                          double a_mm, double b_mm, const Eigen::Vector3d& tangent, const Eigen::Vector3d& leg,
+                          const Eigen::Vector3d& other_tangent, double bend_radius_mm) {
+  const Eigen::Vector3d chord = other_tangent - tangent, across = chord - chord.dot(leg) * leg;
+  if (!(across.norm() > 1e-9) || !(bend_radius_mm > 0)) return true;
+  const Eigen::Vector3d inward = across.normalized(), normal = leg.cross(inward);
+  const Eigen::Vector3d centre = tangent + bend_radius_mm * inward;
+  double circle_sq = 0.0, line_sq = 0.0;
+  for (std::size_t i = 0; i < centerline.size() && i < arc_mm.size(); ++i) {
+    if (!(arc_mm[i] > a_mm && arc_mm[i] < b_mm)) continue;
+    const Eigen::Vector3d q = centerline[i] - centre, r = centerline[i] - tangent;
+    const double h = q.dot(normal), radial = std::sqrt(std::max(q.squaredNorm() - h * h, 0.0)) - bend_radius_mm;
+    circle_sq += radial * radial + h * h;
+    line_sq += (r - r.dot(leg) * leg).squaredNorm();
+  }
+  return circle_sq < line_sq;
+}
+
 int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::Vector3d>& centerline,
                               const std::vector<Eigen::Vector3d>& surface_points, double tube_radius_mm,
                               double diameter_mm, const FilletRefineParams& params, const FilletScan& scan) {
@@ -349,14 +367,26 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const double t1 = arc_of(p1), t2 = arc_of(p2);
       const double lo = std::min(t1, t2), hi = std::max(t1, t2);
       const double seen = params.min_seen_leg_diameters * diameter_mm;
-      const auto unseen = [&](double from, double to) {
+      // The leg from `tangent` along `leg` (unit, away from the arc); `other` is the arc's other tangent point.
+      const auto unseen = [&](double from, double to, const Eigen::Vector3d& tangent, const Eigen::Vector3d& leg,
+                              const Eigen::Vector3d& other) {
         if (!(std::abs(to - from) > 0 && std::abs(to - from) < seen)) return false;  // beyond the window, or long enough
         const double reach = from + (to > from ? 1.0 : -1.0) * params.min_seen_leg_reach_diameters * diameter_mm;
         if (reach < 0.0 || reach > total) return true;  // the run ends first
-        const Line l = fit_line(centerline, arc, std::min(from, reach), std::max(from, reach));
-        return !l.ok || stray(l, from, reach) > leg_limit;  // the bend goes on past the window
+        const double a = std::min(from, reach), b = std::max(from, reach);
+        const Line l = fit_line(centerline, arc, a, b);
+        if (l.ok && stray(l, from, reach) <= leg_limit) return false;  // straight on past the window
+        // Not straight: the arc goes on past the window (refused), or the short leg is a short straight into the
+        // next bend (kept).
+        return arc_goes_on_past_leg(centerline, arc, a, b, tangent, leg, other, o.fit.model.bend_radius_mm);
       };
-      if (t1 >= 0 && t2 >= 0 && lo > o.s0 && hi < o.s1 && (unseen(lo, o.s0) || unseen(hi, o.s1))) {
+      const bool first_low = t1 <= t2;
+      const Eigen::Vector3d &p_lo = first_low ? p1 : p2, &p_hi = first_low ? p2 : p1;
+      const Eigen::Vector3d &leg_lo = first_low ? o.fit.model.leg1 : o.fit.model.leg2,
+                            &leg_hi = first_low ? o.fit.model.leg2 : o.fit.model.leg1;
+      // Refused, the candidate as a whole (its smooth tube too: its window cuts the bend; another's holds it).
+      if (t1 >= 0 && t2 >= 0 && lo > o.s0 && hi < o.s1 &&
+          (unseen(lo, o.s0, p_lo, leg_lo, p_hi) || unseen(hi, o.s1, p_hi, leg_hi, p_lo))) {
         o = Outcome{};
         return;
       }

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "ewis/core/robust.hpp"
@@ -439,5 +440,46 @@ TEST(FilletRefine, AWindowReachingIntoTheNextBendIsCutBack) {
       EXPECT_LT(worst, 0.04 * truth);
     else
       EXPECT_LT(sum / draws, 0.95 * truth);
+  }
+}
+
+// The continuation past a fillet's short leg (FilletRefineParams::min_seen_leg_*): an arc of 88 mm whose tangent
+// point lies at the origin, its leg along -x (away from the arc, which bends towards +y as it runs along +x). Past
+// the tangent point the centreline either goes on along the same circle (the window cut the arc: true), or runs 10 mm
+// straight and then bends again, either way, at 107 mm (a short straight between two bends: false). 0.05 mm noise.
+TEST(FilletRefine, AnArcGoingOnPastALegIsToldFromTheNextBend) {
+  const double R = 88.0, reach = 27.6;
+  const Eigen::Vector3d tangent = Eigen::Vector3d::Zero(), leg = -Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d other = Eigen::Vector3d(R * std::sin(0.5), R * (1 - std::cos(0.5)), 0);  // 0.5 rad on
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  const auto jitter = [&](Eigen::Vector3d p) { return p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)); };
+  // Samples at arc length s past the tangent point (the arc lengths count down from 100 at the tangent point).
+  const auto run = [&](const std::function<Eigen::Vector3d(double)>& at) {
+    std::pair<std::vector<Eigen::Vector3d>, std::vector<double>> out;
+    for (double s = 0.25; s < reach + 5.0; s += 0.5) {
+      out.first.push_back(jitter(at(s)));
+      out.second.push_back(100.0 - s);
+    }
+    return out;
+  };
+  const auto circle = run([&](double s) { return Eigen::Vector3d(-R * std::sin(s / R), R * (1 - std::cos(s / R)), 0); });
+  EXPECT_TRUE(arc_goes_on_past_leg(circle.first, circle.second, 100.0 - reach, 100.0, tangent, leg, other, R));
+  for (const double side : {1.0, -1.0}) {
+    const auto next_bend = run([&](double s) {
+      if (s <= 10.0) return Eigen::Vector3d(-s, 0, 0);
+      const double u = s - 10.0, r2 = 107.0;
+      return Eigen::Vector3d(-10.0 - r2 * std::sin(u / r2), side * r2 * (1 - std::cos(u / r2)), 0);
+    });
+    EXPECT_FALSE(arc_goes_on_past_leg(next_bend.first, next_bend.second, 100.0 - reach, 100.0, tangent, leg, other, R))
+        << "side " << side;
+  }
+  // A circle of the same sense but looser than the fit's (a spline's curvature falling off past its peak) is told
+  // by which model lies closer: at 1.3 R the circle still, at 3 R the line.
+  for (const auto& [factor, goes_on] : {std::pair{1.3, true}, std::pair{3.0, false}}) {
+    const double r2 = factor * R;
+    const auto looser = run([&](double s) { return Eigen::Vector3d(-r2 * std::sin(s / r2), r2 * (1 - std::cos(s / r2)), 0); });
+    EXPECT_EQ(arc_goes_on_past_leg(looser.first, looser.second, 100.0 - reach, 100.0, tangent, leg, other, R), goes_on)
+        << "factor " << factor;
   }
 }

@@ -109,8 +109,11 @@ struct FilletRefineParams {
   double leg_min_diameters = 1.0;
   // A fillet with both tangent points inside its window and a leg shorter than min_seen_leg_diameters there is kept
   // only where the centreline from that tangent point on, over min_seen_leg_reach_diameters past the window's end, is
-  // a straight line (its stray from the line fitted to it within the leg test's limit above); where the run ends
-  // first, it is not (a tangent point beyond the window's end leaves arc only on that side: a fit of the arc, kept).
+  // a straight line (its stray from the line fitted to it within the leg test's limit above), or, where it is not,
+  // lies closer to the leg's line than to the fit's circle continued (arc_goes_on_past_leg: a short straight into
+  // the next bend, not the same arc going on); where the run ends first, it is not kept (a tangent point beyond the
+  // window's end leaves arc only on that side: a fit of the arc, kept). A refused candidate is dropped whole, its
+  // smooth tube too (its window cuts the bend; another candidate's holds it).
   // A window whose centre lies off the bend holds only part of a long arc; the fit then lays a "leg" on the arc's last
   // few mm, and with the turn fixed by that leg's direction the arc is too short and reads tight (fresh campaign seed
   // 6262 scene_050: a 50 deg arc of 78.9 mm on a 23 mm hose, its run starting 2.4 d before it, read 66.3 +- 2.0 from
@@ -118,6 +121,10 @@ struct FilletRefineParams {
   // centreline past it strays 3.6 mm from a line over 3 d against a limit of 2.3). Judged on the model's own leg
   // direction instead, a good fit with a 0.8 mm leg was refused (its leg direction, from so little leg, was 5 deg off);
   // refusing every short leg cost a seed 5151 bend (40.96 -> 45.85 for 40.90: legs of 0.4 and 1.2 mm on straights).
+  // Refusing every continuation that is not straight cost a spline's peak (S20 scene_006: 68.9 -> 75.0 for 67.9, its
+  // window's 1.9 mm leg running into the spline's falling curvature) and refused a 157 mm arc's exact fit (N
+  // scene_050: 88.13 +- 0.11 for 88.1, a 0.3 mm leg, then 10 mm straight and a 107 mm arc); keeping the smooth tube
+  // of a refused candidate read N scene_050's 88 mm arc's onset as 80.1 (the quartic's overshoot at a curvature step).
   double min_seen_leg_diameters = 0.5;
   double min_seen_leg_reach_diameters = 3.0;
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
@@ -264,6 +271,14 @@ struct FilletScan {
   bool has_sensor = false;
   Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();
 };
+
+// Whether the centreline samples with arc length strictly between a_mm and b_mm (`arc_mm`: each sample's) lie closer,
+// in the sum of squares, to a fillet's circle continued past its tangent point `tangent` than to the line of its leg
+// there (`leg`: unit, pointing away from the arc; `other_tangent`: the arc's other end, which fixes the side the
+// circle bends to; `bend_radius_mm`: the circle's). True: the arc goes on where the fillet put a leg.
+bool arc_goes_on_past_leg(const std::vector<Eigen::Vector3d>& centerline, const std::vector<double>& arc_mm,
+                          double a_mm, double b_mm, const Eigen::Vector3d& tangent, const Eigen::Vector3d& leg,
+                          const Eigen::Vector3d& other_tangent, double bend_radius_mm);
 
 // Re-measures the tightest bends of `bend` (measure_bend_radius on `centerline`) with fillet fits to the cable's
 // surface points, and replaces its minimum when a fit says the bend is tighter or looser than the circle
