@@ -453,7 +453,9 @@ TEST(FilletRefine, AnArcGoingOnPastALegIsToldFromTheNextBend) {
   const Eigen::Vector3d other = Eigen::Vector3d(R * std::sin(0.5), R * (1 - std::cos(0.5)), 0);  // 0.5 rad on
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.05);
-  const auto jitter = [&](Eigen::Vector3d p) { return p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)); };
+  const auto jitter = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    return p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  };
   // Samples at arc length s past the tangent point (the arc lengths count down from 100 at the tangent point).
   const auto run = [&](const std::function<Eigen::Vector3d(double)>& at) {
     std::pair<std::vector<Eigen::Vector3d>, std::vector<double>> out;
