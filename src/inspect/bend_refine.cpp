@@ -403,6 +403,20 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
                         (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
                         f.model.bend_radius_mm <= 100.0 * diameter_mm;
     if (!shaped) return;
+    // A fit stopped by its iteration limit with its radius settled (inside a long arc the legs lie beyond the window
+    // and the vertex slides along a flat direction) is taken when a second run from it leaves the radius where it
+    // was, as the narrower fillet is (below); otherwise the circle windows' figure would stand for a bend the
+    // surface measures well.
+    if (!f.ok && params.settle_unconverged) {
+      FilletFit again = fit_fillet(pts, f.model, params.fit, scales.empty() ? nullptr : &scales);
+      if (std::isfinite(again.model.bend_radius_mm) && std::isfinite(again.bend_radius_se_mm) &&
+          again.model.turn_rad() > 1e-3 && again.model.tube_radius_mm > 0 &&
+          std::abs(again.model.bend_radius_mm - f.model.bend_radius_mm) <= 0.05 * again.bend_radius_se_mm &&
+          (again.model.vertex - centre).norm() <= cands[k].half_window_mm) {
+        f = std::move(again);
+        f.ok = true;
+      }
+    }
     // A precise fit is taken as it is; a looser one (a short arc of a thin cable holds few points) only where it
     // shows the circle windows reading high by more than two of its standard errors (they cut short corners).
     // Tighter than the tube's radius the inside would fold into itself: such a fit (a short kink, whose radius

@@ -39,6 +39,31 @@ struct Context {
 void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Eigen::Vector3d& origin,
             std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>* ids = nullptr);
 
+// Whether the ray from `sensor` to `q` passes within `radius_mm` of the axis (through `axis_point` along unit
+// `axis`) more than `margin_mm` before it reaches q, at an axial position (measured from the frame's origin
+// along `axis`) in [t0, t1]: the tube of that radius hides q from the sensor, so q is a mixed pixel or another
+// depth error, not a surface. A surface point of the tube itself lies where its ray enters the tube, before
+// the ray's closest approach to the axis (up to the noise along the ray: the margin).
+bool behind_tube(const Eigen::Vector3d& sensor, const Eigen::Vector3d& q, const Eigen::Vector3d& axis_point,
+                 const Eigen::Vector3d& axis, double radius_mm, double margin_mm, double t0, double t1);
+
+// Whether the tube of `radius_mm` along unit `axis` through `axis_point` (relative to `origin`) is in front as the
+// sensor sees it: no scan points (3 or more usable within max(resolution, r/4)) on the ray from its point nearest
+// the sensor towards the sensor, over max(10 r, 30 mm). True without a sensor.
+bool front_clear(Context& ctx, const Eigen::Vector3d& origin, const Eigen::Vector3d& axis_point,
+                 const Eigen::Vector3d& axis, double radius_mm);
+
+// What drop_hidden_by_tube did: None, the tube hides no points; Dropped, it hides some and is itself in front
+// (front_clear), they were dropped; Kept, it is not in front, or there is no sensor or no hidden_check.
+enum class HiddenPoints { None, Dropped, Kept };
+
+// TubeParams::hidden_check: drops from `rel` (relative to `origin`, ids alongside) the points hidden by the tube of
+// `radius_mm` along unit `dir` through the origin, between t0 and t1 along it (behind_tube, margin
+// ctx.tolerance_mm), when the tube is itself in front (front_clear at the middle of [t0, t1]).
+HiddenPoints drop_hidden_by_tube(Context& ctx, std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>& ids,
+                                 const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double radius_mm,
+                                 double t0, double t1);
+
 // TubeParams::facing_check: drops from `win` (relative to the gather origin, ids alongside) the points whose
 // normal points against the direction from the axis (through that origin along unit `axis`) to them. Nothing is
 // dropped without a sensor, or when the check would leave fewer than half the points (normals smeared across a

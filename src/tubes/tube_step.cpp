@@ -34,6 +34,75 @@ void gather(Context& ctx, const Eigen::Vector3d& center, double radius, const Ei
   }
 }
 
+bool behind_tube(const Eigen::Vector3d& sensor, const Eigen::Vector3d& q, const Eigen::Vector3d& axis_point,
+                 const Eigen::Vector3d& axis, double radius_mm, double margin_mm, double t0, double t1) {
+  const Eigen::Vector3d ray = q - sensor;
+  const double len = ray.norm();
+  if (len <= 0) return false;
+  const Eigen::Vector3d e = ray / len;
+  const Eigen::Vector3d s0 = sensor - axis_point;
+  const Eigen::Vector3d sp = s0 - axis * axis.dot(s0), ep = e - axis * axis.dot(e);
+  const double ee = ep.squaredNorm();
+  if (ee < 1e-12) return false;  // the ray runs along the axis
+  const double t = -sp.dot(ep) / ee;  // along the ray, where it passes closest to the axis line
+  if (t <= 0 || t + margin_mm >= len) return false;
+  const Eigen::Vector3d c = s0 + e * t;
+  if ((c - axis * axis.dot(c)).squaredNorm() >= radius_mm * radius_mm) return false;
+  const double along = axis.dot(c) + axis.dot(axis_point);  // in the frame of `q` (the window's bounds)
+  return along >= t0 && along <= t1;
+}
+
+bool front_clear(Context& ctx, const Eigen::Vector3d& origin, const Eigen::Vector3d& axis_point,
+                 const Eigen::Vector3d& axis, double radius_mm) {
+  if (!ctx.params.has_sensor) return true;
+  const Eigen::Vector3d sensor = ctx.params.sensor_position - origin;
+  const Eigen::Vector3d to_sensor = sensor - axis_point;
+  Eigen::Vector3d n = to_sensor - axis * axis.dot(to_sensor);
+  if (n.squaredNorm() < 1e-12) return true;  // looking along the axis
+  n.normalize();
+  const Eigen::Vector3d front = axis_point + n * radius_mm;  // the tube's point nearest the sensor, about
+  const Eigen::Vector3d ray = sensor - front;
+  const double len = ray.norm();
+  if (len <= 0) return true;
+  const Eigen::Vector3d e = ray / len;
+  const double rq = std::max(ctx.resolution_mm, 0.25 * radius_mm);
+  const double reach = std::min(len, std::max(10.0 * radius_mm, 30.0));
+  for (double t = ctx.tolerance_mm + 1.5 * rq; t <= reach; t += 1.5 * rq) {
+    const Eigen::Vector3d c = origin + front + e * t;
+    ctx.tree.radius_unsorted(c.cast<float>(), static_cast<float>(rq), ctx.scratch);
+    // every point counts, used by another trace or on a rigid element as well: all hide what lies behind them
+    if (ctx.scratch.size() >= 3) return false;
+  }
+  return true;
+}
+
+HiddenPoints drop_hidden_by_tube(Context& ctx, std::vector<Eigen::Vector3d>& rel, std::vector<std::uint32_t>& ids,
+                                 const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double radius_mm,
+                                 double t0, double t1) {
+  if (!ctx.params.has_sensor || !ctx.params.hidden_check || rel.size() != ids.size()) return HiddenPoints::Kept;
+  const Eigen::Vector3d sensor = ctx.params.sensor_position - origin;
+  std::vector<char> hidden(rel.size(), 0);
+  std::size_t n_hidden = 0;
+  for (std::size_t k = 0; k < rel.size(); ++k) {
+    hidden[k] = behind_tube(sensor, rel[k], Eigen::Vector3d::Zero(), dir, radius_mm, ctx.tolerance_mm, t0, t1);
+    n_hidden += hidden[k];
+  }
+  if (n_hidden == 0) return HiddenPoints::None;
+  // Only a tube the sensor sees hides anything: one traced in the shadow of another surface (a "tube" of mixed
+  // points hanging under a cable) is hidden itself, and its own points are no evidence.
+  if (!front_clear(ctx, origin, dir * (0.5 * (t0 + t1)), dir, radius_mm)) return HiddenPoints::Kept;
+  std::size_t w = 0;
+  for (std::size_t k = 0; k < rel.size(); ++k) {
+    if (hidden[k]) continue;
+    rel[w] = rel[k];
+    ids[w] = ids[k];
+    ++w;
+  }
+  rel.resize(w);
+  ids.resize(w);
+  return HiddenPoints::Dropped;
+}
+
 void drop_facing_away(Context& ctx, std::vector<Eigen::Vector3d>& win, std::vector<std::uint32_t>& ids,
                       const Eigen::Vector3d& axis) {
   if (!ctx.params.has_sensor || !ctx.params.facing_check || win.size() != ids.size() || win.empty()) return;
@@ -194,6 +263,8 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
   // one k-d tree query per step (paper 4.2.2 "fast"); the counting below works on this local set
   gather(ctx, a + d * (0.5 * reach), std::sqrt(0.25 * reach * reach + (r_ref + 2 * tol) * (r_ref + 2 * tol)) + reach * 0.5, a,
          rel, &rel_ids);
+  // points the tube (as it runs so far) hides from the sensor: mixed pixels hanging from its silhouette
+  const HiddenPoints hidden = drop_hidden_by_tube(ctx, rel, rel_ids, a, d, r_ref, -h, reach);
   if (rel.size() < 6) {
     st.fail = "no data";
     return st;
@@ -317,13 +388,22 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
   }
   {
     const double b0 = fit.radius_mm + tol, b1 = fit.radius_mm + 3.0 * tol;
-    int band = 0;
+    const Eigen::Vector3d sensor = ctx.params.sensor_position - a;
+    int band = 0, band_hidden = 0;
     for (const Eigen::Vector3d& q : win) {
       const Eigen::Vector3d v = q - fit.point;
       const double dd = (v - fit.axis * fit.axis.dot(v)).norm();
-      band += dd > b0 && dd <= b1;
+      if (dd <= b0 || dd > b1) continue;
+      ++band;
+      // a point the tube itself hides from the sensor is no surface beside it: a mixed pixel on a ray
+      // grazing the silhouette (a veil hanging from it towards the background), not a plane going on
+      if (hidden != HiddenPoints::Kept && behind_tube(sensor, q, fit.point, fit.axis, b0, 0.0, w0, w1)) ++band_hidden;
     }
-    if (band > 0.5 * fit.inliers) {
+    const double limit = 0.5 * fit.inliers;
+    // the hidden points decide only where the tube is in front (checked above when any were dropped)
+    const bool exempt = band > limit && band - band_hidden <= limit &&
+                        (hidden == HiddenPoints::Dropped || front_clear(ctx, a, fit.point, fit.axis, fit.radius_mm));
+    if (band > limit && !exempt) {
       st.fail = "no surface";
       return st;
     }

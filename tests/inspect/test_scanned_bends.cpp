@@ -1,9 +1,13 @@
 // Bends scanned by the virtual sensor, through the whole inspection.
 // A C-bend (as on seed 3030's scene_050): an arc of 107 mm turning 24 deg, 10 mm straight, an arc of 88 mm turning
-// 103 deg the same way, on a 9.2 mm cable. A candidate's window across both arcs put a 2 mm "leg" on the second arc
-// (FilletRefineParams::min_seen_leg_*), and the smooth tube over the same candidate, across the second arc's onset,
-// overshot there (the quartic cannot follow the curvature's step): 81.6 mm on one scan of three, -7.3 %. With the
-// candidate refused as a whole the second arc's own fit stands.
+// 103 deg the same way, on a 9.2 mm cable. Before the trace left out the points its tube hides from the sensor, a
+// candidate's window across both arcs put a 2 mm "leg" on the second arc (FilletRefineParams::min_seen_leg_*) and
+// its smooth tube overshot at the second arc's onset: 81.6 mm on one scan of three without that rule (its analytic
+// test: FilletRefine.AnArcGoingOnPastALegIsToldFromTheNextBend). Since, a candidate inside the long second arc whose
+// fillet stopped at its iteration limit left its circle windows' figure standing (84.56 on seed 16); its settled fit
+// (FilletRefineParams::settle_unconverged) reads the arc. Known limit (docs/inspect.md): on seed 4 of this scene the
+// smooth tube over a window holding the first arc's end, the straight and the second arc's onset overshoots there
+// (82.35, -6.4 %); the other 23 seeds of 1-24 read within 0.8 %.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -39,7 +43,7 @@ std::vector<Eigen::Vector3d> c_bend() {
   return t.points;
 }
 
-Bend make_bend(const std::vector<Eigen::Vector3d>& axis, double r, std::uint64_t seed) {
+Bend make_bend(const std::vector<Eigen::Vector3d>& axis, double r, std::uint64_t seed, double mixed_share = 0.02) {
   Bend b;
   const Mesh tube = make_tube(axis, r, 32);
   add_element(b.scene, "cable_A", tube.vertices, tube.triangles);
@@ -59,8 +63,8 @@ Bend make_bend(const std::vector<Eigen::Vector3d>& axis, double r, std::uint64_t
   sp.sigma600_mm = 0.3;
   // The sensor model's mixed pixels are a share of the whole cloud, spread over the scene's depth edges: a lone
   // cable over a plate would get them all, a veil of ~250 points per mm of its silhouette (a campaign scene has
-  // many more edges). A real sensor gives one depth per pixel.
-  sp.mixed_share = 0.02;
+  // many more edges). A real sensor gives one depth per pixel. At the default share: ScannedBend.AVeil...
+  sp.mixed_share = mixed_share;
   b.scan = sim::scan(caster, Camera{}, b.camera_to_cad, sp).cloud;
   return b;
 }
@@ -77,15 +81,39 @@ double min_radius(const Bend& b, const FilletRefineParams& fillet = {}) {
 
 }  // namespace
 
-TEST(ScannedBend, AWindowCuttingAnArcIsNoReading) {
+TEST(ScannedBend, ACBendReadsItsSecondArc) {
   const double truth = 88.0, d = 9.2;
-  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+  for (std::uint64_t seed : {1, 2, 3, 16}) {
     const Bend b = make_bend(c_bend(), 0.5 * d, seed);
     EXPECT_NEAR(min_radius(b), truth, 0.02 * truth) << "seed " << seed;
-    if (seed == 2) {
-      FilletRefineParams off;
-      off.min_seen_leg_diameters = 0.0;
-      EXPECT_LT(min_radius(b, off), 0.95 * truth);  // without the rule: the smooth tube's overshoot, 81.6
+    if (seed == 16) {
+      FilletRefineParams unsettled;
+      unsettled.settle_unconverged = false;
+      EXPECT_LT(min_radius(b, unsettled), 0.97 * truth);  // the circle windows' 84.56
     }
+  }
+}
+
+// At the sensor model's default mixed share a veil of ~250 points per mm hangs from the lone cable's silhouette
+// towards the plate. The trace's check for "a plane going on just outside the surface" counted it and broke the
+// trace (seeds 1-3: 7, 6 and 8 gaps, 4, 1 and 1 runs); points the tube itself hides from the sensor are no such
+// surface (TubeParams::hidden_check).
+TEST(ScannedBend, AVeilHangingFromTheSilhouetteDoesNotBreakTheTrace) {
+  const std::vector<Eigen::Vector3d> axis = c_bend();
+  double length = 0;
+  for (std::size_t k = 1; k < axis.size(); ++k) length += (axis[k] - axis[k - 1]).norm();
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    const Bend b = make_bend(axis, 4.6, seed, sim::SensorParams{}.mixed_share);
+    InspectParams p;
+    p.register_scan = false;
+    const InspectionResult res = inspect(b.scene, b.plan, b.scan, b.camera_to_cad, p);
+    ASSERT_EQ(res.cables.size(), 1u);
+    const CableInspection& c = res.cables[0];
+    ASSERT_TRUE(c.found) << "seed " << seed;
+    std::size_t gaps = 0;
+    for (const TubeTrace& r : c.runs) gaps += r.gaps.size();
+    EXPECT_EQ(c.runs.size(), 1u) << "seed " << seed;
+    EXPECT_LE(gaps, 1u) << "seed " << seed;
+    EXPECT_GT(c.length_mm, 0.95 * length) << "seed " << seed;
   }
 }

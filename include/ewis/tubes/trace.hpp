@@ -35,6 +35,11 @@ struct TubeParams {
   // within the tube's surface band but faces back towards its axis (cosine -0.4 to -0.9).
   bool facing_check = true;
   double facing_min_cos = 0.0;
+  // With the sensor: the points a step's tube hides (their ray passes within its radius of the axis before it
+  // reaches them, more than the surface tolerance before) are left out of the step and do not count as a surface
+  // going on just outside the tube: they are mixed pixels hanging from its silhouette. Only where the tube is
+  // itself in front: a "tube" fitted among the mixed points under a cable has that cable between it and the sensor.
+  bool hidden_check = true;
 
   // Propagation (paper 4.2.4); <= 0: derived from the radius and the resolution.
   double step_mm = 0.0;               // sub-cable length (default: one radius, at least 4 x resolution)
