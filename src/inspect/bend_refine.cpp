@@ -404,17 +404,21 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
                         f.model.bend_radius_mm <= 100.0 * diameter_mm;
     if (!shaped) return;
     // A fit stopped by its iteration limit with its radius settled (inside a long arc the legs lie beyond the window
-    // and the vertex slides along a flat direction) is taken when a second run from it leaves the radius where it
-    // was, as the narrower fillet is (below); otherwise the circle windows' figure would stand for a bend the
-    // surface measures well.
+    // and the vertex slides along a flat direction) counts as converged when a second run from it leaves the radius
+    // where it was and it is known to narrow_max_se_fraction, as the narrower fillet (below); otherwise the circle
+    // windows' figure would stand for a bend the surface measures well. It is taken as it is only where it does not
+    // read tighter than the circle windows by more than two of its standard errors; tighter, the data must prefer
+    // it as they must an imprecise fit's.
+    bool settled = false;
     if (!f.ok && params.settle_unconverged) {
       FilletFit again = fit_fillet(pts, f.model, params.fit, scales.empty() ? nullptr : &scales);
       if (std::isfinite(again.model.bend_radius_mm) && std::isfinite(again.bend_radius_se_mm) &&
           again.model.turn_rad() > 1e-3 && again.model.tube_radius_mm > 0 &&
           std::abs(again.model.bend_radius_mm - f.model.bend_radius_mm) <= 0.05 * again.bend_radius_se_mm &&
+          again.bend_radius_se_mm <= params.narrow_max_se_fraction * again.model.bend_radius_mm &&
           (again.model.vertex - centre).norm() <= cands[k].half_window_mm) {
         f = std::move(again);
-        f.ok = true;
+        settled = true;
       }
     }
     // A precise fit is taken as it is; a looser one (a short arc of a thin cable holds few points) only where it
@@ -423,7 +427,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // the data hardly constrain) is never taken as it is.
     const double se = f.bend_radius_se_mm, R = f.model.bend_radius_mm;
     const bool physical = R >= f.model.tube_radius_mm;
-    if (f.ok && physical && se <= params.max_se_fraction * R) {
+    const bool converged = f.ok || settled;
+    if (physical && se <= params.max_se_fraction * R && (f.ok || (settled && !(p.radius_mm - R > 2.0 * se)))) {
+      f.ok = true;
       o.ok = true;
       return;
     }
@@ -447,8 +453,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // ... and the data must pin the radius down on the loose side too: held at twice the fit's radius the
     // model must fit clearly worse. A corner fitted into a gently curving stretch (the circle windows there
     // reading high) is preferred to the circle's radius, but not to twice its own.
-    if (f.ok && physical && se <= params.max_se_fraction_vs_circle * R &&
+    if (converged && physical && se <= params.max_se_fraction_vs_circle * R &&
         ratio_at(2.0 * R) >= params.min_log_likelihood_ratio_doubled) {
+      f.ok = true;
       o.ok = true;
       return;
     }

@@ -82,8 +82,10 @@ std::vector<double> ray_noise_scales(const std::vector<Eigen::Vector3d>& points,
 struct FilletRefineParams {
   bool enabled = true;
   // A candidate's fit stopped by its iteration limit (inside a long arc its legs lie beyond the window and the
-  // vertex slides along a flat direction) is taken when a second run from it leaves the radius within 0.05 of
-  // its standard error (as the narrower fillet's is); false: the circle windows' figure stands for it.
+  // vertex slides along a flat direction) counts as converged when a second run from it leaves the radius within
+  // 0.05 of its standard error and that is under narrow_max_se_fraction of it (as the narrower fillet's); it is then
+  // taken as it is unless it reads tighter than the circle windows by over 2 standard errors (then the likelihood
+  // tests of an imprecise fit decide). False: the circle windows' figure stands for it.
   bool settle_unconverged = true;
   int max_candidates = 6;             // bends re-measured per run (the tightest windows of the circle profile) ...
   double max_radius_ratio = 5.0;      // ... whose circle radius is within this factor of the tightest one's
