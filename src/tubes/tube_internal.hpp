@@ -48,8 +48,9 @@ bool behind_tube(const Eigen::Vector3d& sensor, const Eigen::Vector3d& q, const 
                  const Eigen::Vector3d& axis, double radius_mm, double margin_mm, double t0, double t1);
 
 // Whether the tube of `radius_mm` along unit `axis` through `axis_point` (relative to `origin`) is in front as the
-// sensor sees it: no scan points (3 or more usable within max(resolution, r/4)) on the ray from its point nearest
-// the sensor towards the sensor, over max(10 r, 30 mm). True without a sensor.
+// sensor sees it: fewer than 3 scan points (any, usable or not: another run's or a rigid element's hide it as well)
+// within max(resolution, r/4) of the ray from its point nearest the sensor towards the sensor, over max(10 r, 30 mm).
+// True without a sensor.
 bool front_clear(Context& ctx, const Eigen::Vector3d& origin, const Eigen::Vector3d& axis_point,
                  const Eigen::Vector3d& axis, double radius_mm);
 

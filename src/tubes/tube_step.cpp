@@ -70,8 +70,7 @@ bool front_clear(Context& ctx, const Eigen::Vector3d& origin, const Eigen::Vecto
   for (double t = ctx.tolerance_mm + 1.5 * rq; t <= reach; t += 1.5 * rq) {
     const Eigen::Vector3d c = origin + front + e * t;
     ctx.tree.radius_unsorted(c.cast<float>(), static_cast<float>(rq), ctx.scratch);
-    // every point counts, used by another trace or on a rigid element as well: all hide what lies behind them
-    if (ctx.scratch.size() >= 3) return false;
+    if (ctx.scratch.size() >= 3) return false;  // every point hides what lies behind it (see the declaration)
   }
   return true;
 }
@@ -401,9 +400,8 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
     }
     const double limit = 0.5 * fit.inliers;
     // the hidden points decide only where the tube is in front (checked above when any were dropped)
-    const bool exempt = band > limit && band - band_hidden <= limit &&
-                        (hidden == HiddenPoints::Dropped || front_clear(ctx, a, fit.point, fit.axis, fit.radius_mm));
-    if (band > limit && !exempt) {
+    if (band > limit && !(band - band_hidden <= limit && (hidden == HiddenPoints::Dropped ||
+                                                          front_clear(ctx, a, fit.point, fit.axis, fit.radius_mm)))) {
       st.fail = "no surface";
       return st;
     }
