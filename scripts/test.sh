@@ -2,9 +2,11 @@
 # Installs the dependencies (apt), builds everything and runs every test (unit tests and CLI tests) with CTest,
 # then builds the parser and geometry stages with AddressSanitizer + UndefinedBehaviorSanitizer and runs their
 # tests again (set EWIS_SANITIZE_TESTS=0 to skip that second part). The sanitized pass leaves out the statistical
-# tests of many draws (they ran in the first pass; under the sanitizers they took 2-3 minutes each, 40 % of the pass,
-# and the other tests of the same functions run their code paths), and the whole inspections of several scans (the
-# touching cables' tests run the same pipeline under them).
+# tests of many draws (they ran in the first pass; under the sanitizers they took 0.5-3 minutes each, over half of
+# the pass, and the other tests of the same functions run their code paths: FilletRefine's MixedPixelsUnderACable-
+# OnAPlateAreLeftOut and AWindowReachingIntoTheNextBendIsCutBack, the FilletFit, SmoothTubeFit and Pipeline tests),
+# the whole inspections of several scans (the touching cables' tests run the same pipeline under them), and the
+# touching cables' control without the second trace (EachIsTracedOnItsOwnSurface runs the first trace and the second).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -18,7 +20,7 @@ if [ "${EWIS_SANITIZE_TESTS:-1}" != "0" ]; then
   cmake --preset asan >/dev/null
   cmake --build build-asan -j "$jobs" --target $targets
   label_regex="^($(echo $sanitized | tr ' ' '|'))\$"
-  many_draws="(FilletRefine\.(AVaryingCurvatureIsMeasuredAtItsPeakInNoise|AnArcsEndIsNoTighterBend|AShortTightArcBeatsALongLooserOne|ANarrowerWindowReadsASplinesPeak)|ScannedBend\..*)\$"
+  many_draws="(FilletRefine\.(AVaryingCurvatureIsMeasuredAtItsPeakInNoise|AnArcsEndIsNoTighterBend|AShortTightArcBeatsALongLooserOne|ANarrowerWindowReadsASplinesPeak|ShortTightBendAmongLongArcs|ASmoothBendIsMeasuredAtItsPeak|AHelicalBendIsNotReadTighterAtItsEnds|AShortKinkIsReportedAtAnUpperBound|AFilletBendKeepsTheFilletsReading)|ScannedBend\..*|TouchingCables\.TracedAloneTheyTakeInTheNeighbour)\$"
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs" --timeout 900 -L "$label_regex" -E "$many_draws"
 fi
