@@ -8,7 +8,7 @@ minimum bend radius is the radius of curvature where the curvature peaks, and no
 This script builds such scenes independently of src/sim (numpy only):
   - a plate with ribs and blocks along its edges (the rigid CAD the registration holds on);
   - 1-3 cables, each a clamped cubic B-spline through random control points (non-planar), swept as a tube
-    of 32 sides along rotation-minimising frames, ending in connector boxes and passing through 0-1 clamp
+    of 32 sides (--sides) along rotation-minimising frames, ending in connector boxes and passing through 0-1 clamp
     (all `attached`);
   - the as-built route: the nominal control points moved by up to --deviation-mm (ends fixed), so the scan
     differs from the CAD as a real installation does;
@@ -208,7 +208,7 @@ def look_at(eye, target, up):
     return m
 
 
-def make_scene(rng, index, deviation_mm, bundle=0):
+def make_scene(rng, index, deviation_mm, bundle=0, sides=32):
     plate_half = np.array([300.0, 200.0, 3.0])
     rigid = [("structure", (np.array([0, 0, -3.0]), np.eye(3), plate_half))]
     # ribs along the long edges, a cross rib at each end, blocks in two corners: features in every direction
@@ -225,7 +225,7 @@ def make_scene(rng, index, deviation_mm, bundle=0):
     defect_scene = index % 2 == 1
     defect_cable = int(rng.integers(0, ncables)) if defect_scene and not bundle else -1
     if bundle:
-        return make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, bundle)
+        return make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, bundle, sides)
     cables, nominal_objs, built_objs, plan_elems, truth_cables, defects = [], [], [], [], [], []
     attached_objs = []
     lanes = rng.permutation([-95.0, 0.0, 95.0])[:ncables]
@@ -288,8 +288,8 @@ def make_scene(rng, index, deviation_mm, bundle=0):
             cname = "clamp_%s" % "ABC"[c]
             attached_objs.append((cname, (pb[i], axes, np.array([5.0, r + 1.5, r + 1.5]))))
             attached.append(cname)
-        nominal_objs.append((name, tube_mesh(pn, r)))
-        built_objs.append((name, tube_mesh(pb, r)))
+        nominal_objs.append((name, tube_mesh(pn, r, sides)))
+        built_objs.append((name, tube_mesh(pb, r, sides)))
         if c == defect_cable:
             allowed = rb / rng.uniform(0.6, 0.85)
             defects.append({"kind": "bend", "element": name, "radius_mm": round(rb, 4),
@@ -319,7 +319,7 @@ def make_scene(rng, index, deviation_mm, bundle=0):
                         "bend" if defect_scene else "none")
 
 
-def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, count=2):
+def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, count=2, sides=32):
     """Cables side by side along their whole length (a bundle): cable_B the sideways companion of cable_A's spline,
     cable_C (count 3) the companion on A's other side; each touching A or nearly (gap 0-2 mm, a clearance defect at
     clearance 3 mm) in odd scenes, 5-9 mm from A in even ones. Shared connectors hold the ends (attached to all)."""
@@ -408,8 +408,8 @@ def make_bundle_scene(rng, index, deviation_mm, rigid, defect_scene, count=2):
         cname = "connector_%s%d" % ("AB" if count == 2 else "ABC", end + 1)
         attached_objs.append((cname, (mid + t * (12.0 - 8.0), axes, np.array([12.0, half_side, r_max + 6.0]))))
         attached.append(cname)
-    nominal_objs = [(r[0], tube_mesh(r[6], r[1] / 2)) for r in routes]
-    built_objs = [(r[0], tube_mesh(r[7], r[1] / 2)) for r in routes]
+    nominal_objs = [(r[0], tube_mesh(r[6], r[1] / 2, sides)) for r in routes]
+    built_objs = [(r[0], tube_mesh(r[7], r[1] / 2, sides)) for r in routes]
     plan_elems, truth_cables, defects = [], [], []
     for name, d, off, rnom, rbuilt, loc, pn, pts, length in routes:
         allowed = rbuilt / rng.uniform(1.2, 1.6)
@@ -461,13 +461,15 @@ def main():
     ap.add_argument("--outliers", type=float, default=None)
     ap.add_argument("--bundle", type=int, nargs="?", const=2, default=0, choices=[2, 3],
                     help="2 or 3 cables side by side (touching or nearly in odd scenes: clearance defects)")
+    ap.add_argument("--sides", type=int, default=32,
+                    help="sides of each cable's mesh (a coarse CAD export: 8-12; the truth keeps the vertices' radius)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     for i in range(a.scenes):
         rng = np.random.default_rng([a.seed, i])
         made = None
         while made is None:
-            made = make_scene(rng, i, a.deviation_mm, a.bundle)
+            made = make_scene(rng, i, a.deviation_mm, a.bundle, a.sides)
         rigid_objs, nominal_objs, built_objs, plan, truth = made
         src = os.path.join(a.out, "scene_%03d_cad" % i)
         dst = os.path.join(a.out, "scene_%03d" % i)
