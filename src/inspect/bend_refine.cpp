@@ -497,35 +497,42 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     double centre_s = p.arc_mm;
     SmoothTubeFit sf;
     std::vector<Eigen::Vector3d> pts;
-    for (int pass = 0; pass < 2; ++pass) {
-      const double s0 = std::max(0.0, centre_s - h), s1 = std::min(total, centre_s + h);
-      if (s1 - s0 < h) return;  // at a run's end: no room for the window
+    // The smooth tube over +-hw around centre_s, refitted on the scan points around it; false where it fails.
+    const auto fit_window = [&](double centre, double hw, SmoothTubeFit& out, std::vector<Eigen::Vector3d>& out_pts) {
+      const double s0 = std::max(0.0, centre - hw), s1 = std::min(total, centre + hw);
+      if (s1 - s0 < hw) return false;  // at a run's end: no room for the window
       std::vector<Eigen::Vector3d> window;
       for (std::size_t i = 0; i < centerline.size(); ++i)
         if (arc[i] > s0 && arc[i] < s1) window.push_back(centerline[i]);
-      pts.clear();
+      out_pts.clear();
       for (std::size_t i = 0; i < surface_points.size(); ++i)
-        if (point_arc[i] >= s0 - diameter_mm && point_arc[i] <= s1 + diameter_mm) pts.push_back(surface_points[i]);
+        if (point_arc[i] >= s0 - diameter_mm && point_arc[i] <= s1 + diameter_mm) out_pts.push_back(surface_points[i]);
       const bool again_on_scan = params.regather && scan.cloud && scan.tree;
       SmoothTubeFitParams first = params.smooth_fit;
       if (again_on_scan) first.max_iterations = std::min(first.max_iterations, 10);  // a start for the refit
-      sf = fit_smooth_tube(pts, window, at_arc(centerline, arc, s0), at_arc(centerline, arc, s1), tube_radius_mm, first);
-      if (!(sf.model.tube_radius_mm > 0) || !std::isfinite(sf.bend_radius_mm) || (!again_on_scan && !sf.ok)) return;
+      out = fit_smooth_tube(out_pts, window, at_arc(centerline, arc, s0), at_arc(centerline, arc, s1), tube_radius_mm,
+                            first);
+      if (!(out.model.tube_radius_mm > 0) || !std::isfinite(out.bend_radius_mm) || (!again_on_scan && !out.ok))
+        return false;
       if (again_on_scan) {
         // Again on the scan points around the first fit's surface (a tight bend's outer side included).
-        const SmoothTubeModel& m1 = sf.model;
-        const double band = regather_band(params, sf.sigma_mm, tube_radius_mm);
+        const SmoothTubeModel& m1 = out.model;
+        const double band = regather_band(params, out.sigma_mm, tube_radius_mm);
         const auto dist = [&](const Eigen::Vector3d& y) { return smooth_tube_centreline_distance(m1, y); };
-        std::vector<Eigen::Vector3d> again = scan_points_near(
-            scan, m1.origin, std::hypot(m1.half_chord_mm, h) + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
-              return m1.over_chord(x) && std::abs(dist(x) - m1.tube_radius_mm) <= band &&
-                     faces_sensor(scan, dist, x, params.facing_min_cos);
-            });
-        const SmoothTubeFit second = fit_smooth_tube_from(again, m1, params.smooth_fit);
-        if (!second.ok) return;
-        sf = second;
-        pts.swap(again);
+        const double reach = std::hypot(m1.half_chord_mm, hw) + m1.tube_radius_mm + band;
+        std::vector<Eigen::Vector3d> again = scan_points_near(scan, m1.origin, reach, [&](const Eigen::Vector3d& x) {
+          return m1.over_chord(x) && std::abs(dist(x) - m1.tube_radius_mm) <= band &&
+                 faces_sensor(scan, dist, x, params.facing_min_cos);
+        });
+        SmoothTubeFit second = fit_smooth_tube_from(again, m1, params.smooth_fit);
+        if (!second.ok) return false;
+        out = std::move(second);
+        out_pts.swap(again);
       }
+      return true;
+    };
+    for (int pass = 0; pass < 2; ++pass) {
+      if (!fit_window(centre_s, h, sf, pts)) return;
       // A peak near the window's edge: once more, centred on it.
       if (pass == 0 && std::abs(sf.peak_tau) > 0.8 * params.smooth_fit.peak_fraction) {
         const Neighbor nb = cl_tree.nearest(sf.peak_point.cast<float>());
@@ -534,6 +541,35 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         continue;
       }
       break;
+    }
+    // A wider window where the candidate's radius allows it (thin cables: the window in diameters is short against
+    // a broad peak), centred on the first one's peak and with its own peak in its middle, taken when its model
+    // explains the narrower window's points about as well as that window's own fit and the two radii agree (see
+    // FilletRefineParams::smooth_wide_*).
+    const double h_wide = std::clamp(params.smooth_window_radius_fraction * rc,
+                                     params.smooth_min_half_window_diameters * diameter_mm,
+                                     params.smooth_wide_max_half_window_diameters * diameter_mm);
+    if (params.smooth_wide_max_half_window_diameters > 0 && h_wide > 1.25 * h) {
+      SmoothTubeFit wide;
+      std::vector<Eigen::Vector3d> wide_pts;
+      const Neighbor nb = cl_tree.nearest(sf.peak_point.cast<float>());
+      if (nb.index != UINT32_MAX && fit_window(arc[nb.index], h_wide, wide, wide_pts) &&
+          std::abs(wide.peak_tau) <= 0.8 * params.smooth_fit.peak_fraction) {
+        std::vector<Eigen::Vector3d> narrow_over;
+        for (const Eigen::Vector3d& x : pts)
+          if (sf.model.over_chord(x)) narrow_over.push_back(x);
+        const double cn = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
+        const double s2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
+        const double lack = 2.0 * (smooth_tube_robust_cost(narrow_over, wide.model, cn) -
+                                   smooth_tube_robust_cost(narrow_over, sf.model, cn)) / s2;
+        const double sn = sf.bend_radius_se_mm, sw = wide.bend_radius_se_mm;
+        const double sd = std::sqrt(std::max(sn * sn - sw * sw, 0.25 * sn * sn));
+        if (lack <= params.smooth_wide_max_log_likelihood_ratio &&
+            std::abs(wide.bend_radius_mm - sf.bend_radius_mm) <= params.smooth_wide_max_z * sd) {
+          sf = std::move(wide);
+          pts.swap(wide_pts);
+        }
+      }
     }
     const double R = sf.bend_radius_mm, se = sf.bend_radius_se_mm;
     const bool smooth_usable = R <= 100.0 * diameter_mm && R >= sf.model.tube_radius_mm &&

@@ -188,6 +188,25 @@ struct FilletRefineParams {
   double smooth_window_radius_fraction = 0.5;
   double smooth_min_half_window_diameters = 1.0;
   double smooth_max_half_window_diameters = 3.0;
+  // A wider window: where the candidate's radius allows one wider than smooth_max_half_window_diameters (+-0.5 R, up to
+  // smooth_wide_max_half_window_diameters, at least 1.25 times the first), the smooth tube over it, centred on the
+  // first one's peak, replaces the first when its own peak lies in its middle (as the recentring asks of the first),
+  // - its model explains the first window's points about as well as the first fit does: 2 x the robust cost's rise
+  //   on them / sigma^2 at most smooth_wide_max_log_likelihood_ratio (the first fit has 11 parameters free there, so
+  //   a right wider model gives about 11; one stretched over a curvature's step or a spline's tails, 40-1000);
+  // - and the two radii differ by at most smooth_wide_max_z standard errors of the difference, sqrt(se_first^2 -
+  //   se_wide^2), at least se_first / 2 (nested windows, as for narrow_min_z).
+  // Why: on a thin cable +-3 d is a short window against a spline's peak (4 mm: +-12 mm), its quartic reads with a
+  // standard error of 5-10 % and loses to the fillet, whose wider window averages the peak (S30 scene_008 cable_B,
+  // 5.3 mm, truth 62.7: fillet 69.10 +- 0.47, smooth tube over +-16.5 mm 63.33 +- 3.41 at a likelihood ratio of 2.2;
+  // over +-33 mm 63.44 +- 0.60, taken). Raising smooth_max_half_window_diameters to 6 instead (no tests) left S30 at
+  // 33 of 53 within 5 % and S20 at 18 of 33 (19): as many lost as gained, e.g. S30 scene_013 cable_A 97.8 -> 106.4
+  // for 95.7, where the lack of fit is 125. With the lack-of-fit test alone 37 of 53, but campaign C scene_015's
+  // 70.2 mm helix read 63.14 +- 0.40 where the first window read 66.82 +- 1.18 (3.3 standard errors apart; lack of
+  // fit 18.8). 0: off.
+  double smooth_wide_max_half_window_diameters = 6.0;
+  double smooth_wide_max_log_likelihood_ratio = 25.0;
+  double smooth_wide_max_z = 3.0;
   double smooth_min_log_likelihood_ratio = 25.0;
   // ... or of at least smooth_varying_min_log_likelihood_ratio (9: three standard errors) where the curvature
   // varies along the bend: the fillet refitted on the smooth tube's points (a narrower window) reads tighter than
