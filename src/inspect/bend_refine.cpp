@@ -491,9 +491,12 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   const auto smooth_candidate = [&](const BendSample& p, Outcome& o) {
     double rc = p.radius_mm;
     if (o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm)) rc = std::min(rc, o.fit.model.bend_radius_mm);
-    const double h = std::clamp(params.smooth_window_radius_fraction * rc,
-                                params.smooth_min_half_window_diameters * diameter_mm,
-                                params.smooth_max_half_window_diameters * diameter_mm);
+    // +-smooth_window_radius_fraction x rc, at least smooth_min_half_window_diameters, at most max_diameters
+    const auto half_window = [&](double max_diameters) {
+      const double lo = params.smooth_min_half_window_diameters * diameter_mm;
+      return std::clamp(params.smooth_window_radius_fraction * rc, lo, std::max(lo, max_diameters * diameter_mm));
+    };
+    const double h = half_window(params.smooth_max_half_window_diameters);
     double centre_s = p.arc_mm;
     SmoothTubeFit sf;
     std::vector<Eigen::Vector3d> pts;
@@ -546,9 +549,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // a broad peak), centred on the first one's peak and with its own peak in its middle, taken when its model
     // explains the narrower window's points about as well as that window's own fit and the two radii agree (see
     // FilletRefineParams::smooth_wide_*).
-    const double h_wide = std::clamp(params.smooth_window_radius_fraction * rc,
-                                     params.smooth_min_half_window_diameters * diameter_mm,
-                                     params.smooth_wide_max_half_window_diameters * diameter_mm);
+    const double h_wide = half_window(params.smooth_wide_max_half_window_diameters);
     if (params.smooth_wide_max_half_window_diameters > 0 && h_wide > 1.25 * h) {
       SmoothTubeFit wide;
       std::vector<Eigen::Vector3d> wide_pts;
