@@ -67,6 +67,14 @@ std::vector<double> peak_prominence(const std::vector<double>& v) {
   return prom;
 }
 
+// The points over a smooth tube's chord: those its fit uses.
+std::vector<Eigen::Vector3d> over_chord(const std::vector<Eigen::Vector3d>& points, const SmoothTubeModel& m) {
+  std::vector<Eigen::Vector3d> over;
+  for (const Eigen::Vector3d& x : points)
+    if (m.over_chord(x)) over.push_back(x);
+  return over;
+}
+
 // The band around a first fit's surface in which a bend is fitted again on the scan (see FilletRefineParams::regather).
 double regather_band(const FilletRefineParams& params, double sigma_mm, double tube_radius_mm) {
   return params.regather_band_mm > 0 ? params.regather_band_mm
@@ -489,6 +497,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
 
   // A smooth tube over the candidate (see FilletRefineParams::smooth), against the fillet on the same points.
   const auto smooth_candidate = [&](const BendSample& p, Outcome& o) {
+    if (!o.init) return;  // no fillet to weigh the smooth tube against
     double rc = p.radius_mm;
     if (o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm)) rc = std::min(rc, o.fit.model.bend_radius_mm);
     // +-smooth_window_radius_fraction x rc, at least smooth_min_half_window_diameters, at most max_diameters
@@ -556,9 +565,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const Neighbor nb = cl_tree.nearest(sf.peak_point.cast<float>());
       if (nb.index != UINT32_MAX && fit_window(arc[nb.index], h_wide, wide, wide_pts) &&
           std::abs(wide.peak_tau) <= 0.8 * params.smooth_fit.peak_fraction) {
-        std::vector<Eigen::Vector3d> narrow_over;
-        for (const Eigen::Vector3d& x : pts)
-          if (sf.model.over_chord(x)) narrow_over.push_back(x);
+        const std::vector<Eigen::Vector3d> narrow_over = over_chord(pts, sf.model);
         const double cn = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
         const double s2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
         const double lack = 2.0 * (smooth_tube_robust_cost(narrow_over, wide.model, cn) -
@@ -578,10 +585,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
                                std::abs(sf.model.tube_radius_mm - tube_radius_mm) <=
                                    params.smooth_tube_radius_tolerance * tube_radius_mm;
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
-    if (!o.init) return;
-    std::vector<Eigen::Vector3d> over;
-    for (const Eigen::Vector3d& x : pts)
-      if (sf.model.over_chord(x)) over.push_back(x);
+    const std::vector<Eigen::Vector3d> over = over_chord(pts, sf.model);
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
                                o.fit.model.tube_radius_mm > 0;
     const FilletModel& start = fillet_shaped ? o.fit.model : *o.init;
