@@ -707,7 +707,51 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     }, 1);
   }
 
-  // The minimum over the re-measured bends (a fit failing keeps its circle figure), chosen on
+  // A circle figure (a candidate no fit re-measured) at a run's end, on another candidate's fillet arc, reads that
+  // bend from the centreline's last joints, whose errors the surface fit does not share: it is left out of the
+  // choice unless the surface points of its window prefer its radius to the fillet's
+  // (FilletRefineParams::circle_explained_*).
+  if (params.circle_explained_min_log_likelihood_ratio > 0) {
+    parallel_for_each_index(cands.size(), [&](std::size_t k) {
+      Outcome& o = outcomes[k];
+      if (o.ok || o.narrow || o.smooth) return;
+      const BendSample& p = bend.profile[cands[k].profile];
+      if (!std::isfinite(p.radius_mm)) return;
+      const double end_reach = params.circle_explained_end_diameters * diameter_mm;
+      if (p.window_start_mm > end_reach && p.window_end_mm < total - end_reach) return;  // away from the run's ends
+      const double mid = 0.5 * (p.window_start_mm + p.window_end_mm);
+      std::vector<std::size_t> own;  // the circle window's surface points
+      for (std::size_t i = 0; i < surface_points.size(); ++i)
+        if (point_arc[i] >= p.window_start_mm && point_arc[i] <= p.window_end_mm) own.push_back(i);
+      for (std::size_t j = 0; j < cands.size() && !o.explained; ++j) {
+        const Outcome& l = outcomes[j];
+        if (j == k || !fillet_reading(l)) continue;
+        const FilletModel& m = l.fit.model;
+        const auto [p1, p2] = fillet_tangent_points(m);
+        const double t1 = arc_of(p1), t2 = arc_of(p2);
+        if (t1 < 0 || t2 < 0 || !(mid >= std::min(t1, t2) && mid <= std::max(t1, t2))) continue;
+        std::vector<Eigen::Vector3d> shared;
+        for (std::size_t i : own)
+          if (point_arc[i] >= l.s0 && point_arc[i] <= l.s1) shared.push_back(surface_points[i]);
+        if (shared.size() < params.circle_explained_min_points || 2 * shared.size() < own.size()) continue;
+        // The fillet held at each radius, the rest of it fitted on these points: a likelihood ratio (1 dof).
+        FilletFitParams held = params.fit;
+        held.fit_bend_radius = false;
+        const double c = params.fit.kernel_factor * std::max(l.fit.sigma_mm, params.fit.min_noise_mm);
+        const double sigma2 = std::max(l.fit.sigma_mm * l.fit.sigma_mm, 1e-12);
+        const auto cost_at = [&](double r) {
+          FilletModel start = m;
+          start.bend_radius_mm = r;
+          const FilletFit f = fit_fillet(shared, start, held);
+          return fillet_robust_cost(shared, std::isfinite(f.model.bend_radius_mm) ? f.model : start, c);
+        };
+        const double ratio = 2.0 * (cost_at(m.bend_radius_mm) - cost_at(p.radius_mm)) / sigma2;
+        o.explained = ratio < params.circle_explained_min_log_likelihood_ratio;
+      }
+    }, 1);
+  }
+
+  // The minimum over the re-measured bends (a fit failing keeps its circle figure, unless explained), chosen on
   // radius + choice_se_factor x se: a loose arc wins over a tighter one only when it is tighter even then.
   int refined = 0;
   double best_score = std::numeric_limits<double>::infinity();

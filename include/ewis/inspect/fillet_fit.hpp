@@ -286,6 +286,25 @@ struct FilletRefineParams {
   double explained_min_log_likelihood_ratio = 25.0;
   double explained_max_radius_z = 3.0;
   double explained_max_se_ratio = 0.5;
+  // A candidate no fit re-measured keeps its circle windows' figure, read from the centreline: the chain's joints,
+  // one tube radius apart. Within four joints of a run's end they lie 0.04-0.08 mm inside a bend at the median
+  // (inside a run 0.027) and 4-19 % of them are more than 0.2 mm off (inside 0.4-1 %; campaigns C and F60), so a
+  // circle window reaching there reads tight: campaign scene_136's helix read 51.67 +- 0.61 for 54.79 at the run's
+  // end, where no fillet fits for want of a leg (the arc's fillet read 54.70 +- 0.54). Such a figure, whose window
+  // reaches within circle_explained_end_diameters of the run's start or end, is left out of the choice where its
+  // window's middle lies on another candidate's fillet arc (between its tangent points, along the centreline) and the
+  // surface points of its window inside that fillet's window (at least half of them, and circle_explained_min_points)
+  // do not prefer its radius to the fillet's by a likelihood ratio of circle_explained_min_log_likelihood_ratio: the
+  // fillet held at either radius, the rest of it fitted on those points (2 x cost difference / sigma^2). 4, two
+  // standard errors: a tighter reading is dropped only where the surface does not support it even weakly. On a
+  // spline the circle windows can read a curvature peak the constant-radius fillet averages away (S30 scene_006's
+  // cable_B: 49.03 at its run's start for 43.27, the fillet over the peak 60.94, a ratio of 7.4: kept); a short kink
+  // rejects a looser radius by far. Away from the runs' ends the rule did as much harm as good on the spline sets
+  // (the surface tells a 55 mm window's 137 mm from 149 mm no better than by a ratio of 1.4, with the fillet's legs
+  // free), and the circle figure stands. <= 0: off.
+  double circle_explained_min_log_likelihood_ratio = 4.0;
+  double circle_explained_end_diameters = 2.0;
+  std::size_t circle_explained_min_points = 30;
   SmoothTubeFitParams smooth_fit;
 };
 
