@@ -290,7 +290,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       // Again on the scan points around the first fit's surface (the corner's apex included).
       const FilletModel& m1 = o.fit.model;
       const double band = regather_band(params, o.fit.sigma_mm, tube_radius_mm);
-      const auto dist = [&](const Eigen::Vector3d& y) { return fillet_centreline_distance(m1, y); };
+      const FilletShape shape1 = fillet_shape(m1);
+      const auto dist = [&](const Eigen::Vector3d& y) { return fillet_shape_distance(shape1, y); };
       std::vector<Eigen::Vector3d> again = scan_points_near(
           scan, m1.vertex, cands[k].half_window_mm + m1.tube_radius_mm + band, [&](const Eigen::Vector3d& x) {
             if (!(std::abs(dist(x) - m1.tube_radius_mm) <= band && faces_sensor(scan, dist, x, params.facing_min_cos)))

@@ -45,15 +45,7 @@ FilletModel apply(const FilletModel& base, const Vec<N>& x) {
   return m;
 }
 
-// A tilted fillet's arc: the helix X(phi) = axis_point + rho (-cos(phi) e_n0 + sin(phi) e_t0) + lift phi n, phi in
-// [0, phi_end], of curvature 1 / bend_radius_mm, tangent to -leg1 at `start` and to leg2 at `end`.
-struct HelixArc {
-  Eigen::Vector3d axis_point, n, e_t0, e_n0, start, end;
-  double rho = 0, lift = 0, phi_end = 0;
-  Eigen::Vector3d at(double phi) const {
-    return axis_point + rho * (-std::cos(phi) * e_n0 + std::sin(phi) * e_t0) + lift * phi * n;
-  }
-};
+using HelixArc = FilletHelix;
 
 // The helix of a tilted model (see FilletModel::tilt_rad); false where it is degenerate (legs nearly parallel or
 // opposite, a tilt that leaves no turn about the axis).
@@ -125,9 +117,10 @@ double helix_distance(const HelixArc& h, const Eigen::Vector3d& p) {
 double fillet_robust_cost(const std::vector<Eigen::Vector3d>& points, const FilletModel& model, double scale_mm,
                           const std::vector<double>* noise_scale) {
   if (noise_scale && noise_scale->size() != points.size()) noise_scale = nullptr;
+  const FilletShape shape = fillet_shape(model);
   double s = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const double r = fillet_centreline_distance(model, points[i]) - model.tube_radius_mm;
+    const double r = fillet_shape_distance(shape, points[i]) - model.tube_radius_mm;
     s += cauchy_rho(noise_scale ? r / std::max((*noise_scale)[i], 1e-6) : r, scale_mm);
   }
   return s;
@@ -140,7 +133,8 @@ std::vector<double> ray_noise_scales(const std::vector<Eigen::Vector3d>& points,
   if (n < 40) return scale;
   // Each point's residual and cos^2 of its incidence (the outward normal: the distance's gradient).
   std::vector<double> res(n), c2(n);
-  const auto dist = [&](const Eigen::Vector3d& y) { return fillet_centreline_distance(model, y); };
+  const FilletShape shape = fillet_shape(model);
+  const auto dist = [&](const Eigen::Vector3d& y) { return fillet_shape_distance(shape, y); };
   for (std::size_t i = 0; i < n; ++i) {
     const double c = facing_cosine(dist, points[i], sensor);
     c2[i] = c * c;
@@ -184,32 +178,54 @@ double FilletModel::turn_rad() const {
   return M_PI - std::acos(std::clamp(leg1.dot(leg2), -1.0, 1.0));
 }
 
-double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p) {
-  HelixArc helix;
-  if (m.tilt_rad != 0.0 && helix_of(m, helix))
-    return std::min({half_line_distance(p, helix.start, m.leg1), half_line_distance(p, helix.end, m.leg2),
-                     helix_distance(helix, p)});
+Eigen::Vector3d FilletHelix::at(double phi) const {
+  return axis_point + rho * (-std::cos(phi) * e_n0 + std::sin(phi) * e_t0) + lift * phi * n;
+}
+
+FilletShape fillet_shape(const FilletModel& m) {
+  FilletShape s;
+  s.leg1 = m.leg1;
+  s.leg2 = m.leg2;
+  if (m.tilt_rad != 0.0 && helix_of(m, s.helix)) {
+    s.helical = true;
+    return s;
+  }
   const double turn = m.turn_rad();
   const double R = m.bend_radius_mm;
   const double half = 0.5 * turn;
   const double tangent_len = R * std::tan(half);
-  const Eigen::Vector3d t1 = m.vertex + tangent_len * m.leg1;
-  const Eigen::Vector3d t2 = m.vertex + tangent_len * m.leg2;
-  double best = std::min(half_line_distance(p, t1, m.leg1), half_line_distance(p, t2, m.leg2));
+  s.t1 = m.vertex + tangent_len * m.leg1;
+  s.t2 = m.vertex + tangent_len * m.leg2;
   const Eigen::Vector3d bis = m.leg1 + m.leg2;
   const Eigen::Vector3d normal = m.leg1.cross(m.leg2);
-  if (turn < 1e-9 || bis.norm() < 1e-12 || normal.norm() < 1e-12) return best;
-  const Eigen::Vector3d n = normal.normalized();
-  const Eigen::Vector3d centre = m.vertex + bis.normalized() * (R / std::cos(half));
-  const Eigen::Vector3d w = p - centre;
-  const double h = w.dot(n);
-  const Eigen::Vector3d wp = w - h * n;
-  const Eigen::Vector3d ea = t1 - centre, eb = t2 - centre;
+  if (turn < 1e-9 || bis.norm() < 1e-12 || normal.norm() < 1e-12) return s;
+  s.has_arc = true;
+  s.bend_radius_mm = R;
+  s.n = normal.normalized();
+  s.centre = m.vertex + bis.normalized() * (R / std::cos(half));
+  s.ea = s.t1 - s.centre;
+  s.eb = s.t2 - s.centre;
+  s.s_ab = s.ea.cross(s.eb).dot(s.n);
+  return s;
+}
+
+double fillet_shape_distance(const FilletShape& s, const Eigen::Vector3d& p) {
+  if (s.helical)
+    return std::min({half_line_distance(p, s.helix.start, s.leg1), half_line_distance(p, s.helix.end, s.leg2),
+                     helix_distance(s.helix, p)});
+  double best = std::min(half_line_distance(p, s.t1, s.leg1), half_line_distance(p, s.t2, s.leg2));
+  if (!s.has_arc) return best;
+  const Eigen::Vector3d w = p - s.centre;
+  const double h = w.dot(s.n);
+  const Eigen::Vector3d wp = w - h * s.n;
   // inside the arc's angle: wp lies between ea and eb (the short way; the turn is below pi)
-  const double s_ab = ea.cross(eb).dot(n);
-  const bool inside = ea.cross(wp).dot(n) * s_ab >= 0 && wp.cross(eb).dot(n) * s_ab >= 0;
-  if (inside) best = std::min(best, std::hypot(wp.norm() - R, h));
+  const bool inside = s.ea.cross(wp).dot(s.n) * s.s_ab >= 0 && wp.cross(s.eb).dot(s.n) * s.s_ab >= 0;
+  if (inside) best = std::min(best, std::hypot(wp.norm() - s.bend_radius_mm, h));
   return best;
+}
+
+double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p) {
+  return fillet_shape_distance(fillet_shape(m), p);
 }
 
 namespace {
@@ -234,7 +250,8 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
   model.leg2.normalize();
   std::vector<double> res(n), tmp;
   auto residuals = [&](const FilletModel& m, std::vector<double>& r) {
-    for (std::size_t i = 0; i < n; ++i) r[i] = (fillet_centreline_distance(m, pts[i]) - m.tube_radius_mm) * inv_scale[i];
+    const FilletShape shape = fillet_shape(m);
+    for (std::size_t i = 0; i < n; ++i) r[i] = (fillet_shape_distance(shape, pts[i]) - m.tube_radius_mm) * inv_scale[i];
   };
   auto sigma_of = [&](const std::vector<double>& r) { return robust_sigma(r, params.min_noise_mm, tmp); };
   auto cost_of = [&](const std::vector<double>& r, double c) {

@@ -36,6 +36,28 @@ struct FilletModel {
 // Distance from p to the model's centreline (legs as half-lines from the arc's tangent points).
 double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p);
 
+// A tilted fillet's arc: the helix X(phi) = axis_point + rho (-cos(phi) e_n0 + sin(phi) e_t0) + lift phi n, phi in
+// [0, phi_end], of curvature 1 / bend_radius_mm, tangent to -leg1 at `start` and to leg2 at `end`.
+struct FilletHelix {
+  Eigen::Vector3d axis_point, n, e_t0, e_n0, start, end;
+  double rho = 0, lift = 0, phi_end = 0;
+  Eigen::Vector3d at(double phi) const;
+};
+
+// A model's centreline worked out once for the distances of many points (the fits evaluate thousands per model:
+// the tangent points, the arc's centre and the helix are the same for all of them).
+struct FilletShape {
+  bool helical = false;  // the helix below, else the planar arc
+  FilletHelix helix;
+  Eigen::Vector3d leg1, leg2, t1, t2;  // the legs' directions and their starts (the arc's tangent points)
+  bool has_arc = false;                // a planar arc to measure to (not degenerate)
+  Eigen::Vector3d centre, n, ea, eb;   // its centre, unit normal, and the spokes to t1 and t2
+  double bend_radius_mm = 0, s_ab = 0;
+};
+FilletShape fillet_shape(const FilletModel& m);
+// The same as fillet_centreline_distance(m, p) for the model `shape` was made from.
+double fillet_shape_distance(const FilletShape& shape, const Eigen::Vector3d& p);
+
 struct FilletFitParams {
   int max_iterations = 40;
   std::size_t max_points = 2500;      // evenly strided subset used by the fit (0: all)
