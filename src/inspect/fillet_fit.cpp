@@ -45,11 +45,9 @@ FilletModel apply(const FilletModel& base, const Vec<N>& x) {
   return m;
 }
 
-using HelixArc = FilletHelix;
-
 // The helix of a tilted model (see FilletModel::tilt_rad); false where it is degenerate (legs nearly parallel or
 // opposite, a tilt that leaves no turn about the axis).
-bool helix_of(const FilletModel& m, HelixArc& h) {
+bool helix_of(const FilletModel& m, FilletHelix& h) {
   const double turn = m.turn_rad();
   const Eigen::Vector3d cross = m.leg1.cross(m.leg2), through = m.leg2 - m.leg1;
   if (!(turn > 1e-6) || cross.norm() < 1e-9 || through.norm() < 1e-9) return false;
@@ -90,7 +88,7 @@ double half_line_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& start
 
 // Distance from p to the helix over [0, phi_end] (infinity where its closest point lies beyond an end: the legs
 // hold those points), by Newton steps on the squared distance from p's angle about the axis.
-double helix_distance(const HelixArc& h, const Eigen::Vector3d& p) {
+double helix_distance(const FilletHelix& h, const Eigen::Vector3d& p) {
   const Eigen::Vector3d w = p - h.axis_point;
   double phi = std::atan2(w.dot(h.e_t0), -w.dot(h.e_n0));
   const double mid = 0.5 * h.phi_end;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <random>
+#include <string>
 
 #include "ewis/core/robust.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
