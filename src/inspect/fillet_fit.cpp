@@ -186,6 +186,8 @@ FilletShape fillet_shape(const FilletModel& m) {
   s.leg2 = m.leg2;
   if (m.tilt_rad != 0.0 && helix_of(m, s.helix)) {
     s.helical = true;
+    s.t1 = s.helix.start;
+    s.t2 = s.helix.end;
     return s;
   }
   const double turn = m.turn_rad();
@@ -208,10 +210,8 @@ FilletShape fillet_shape(const FilletModel& m) {
 }
 
 double fillet_shape_distance(const FilletShape& s, const Eigen::Vector3d& p) {
-  if (s.helical)
-    return std::min({half_line_distance(p, s.helix.start, s.leg1), half_line_distance(p, s.helix.end, s.leg2),
-                     helix_distance(s.helix, p)});
   double best = std::min(half_line_distance(p, s.t1, s.leg1), half_line_distance(p, s.t2, s.leg2));
+  if (s.helical) return std::min(best, helix_distance(s.helix, p));
   if (!s.has_arc) return best;
   const Eigen::Vector3d w = p - s.centre;
   const double h = w.dot(s.n);

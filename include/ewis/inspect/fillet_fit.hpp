@@ -49,7 +49,7 @@ struct FilletHelix {
 struct FilletShape {
   bool helical = false;  // the helix below, else the planar arc
   FilletHelix helix;
-  Eigen::Vector3d leg1, leg2, t1, t2;  // the legs' directions and their starts (the arc's tangent points)
+  Eigen::Vector3d leg1, leg2, t1, t2;  // the legs' directions and their starts (the arc's or helix's ends)
   bool has_arc = false;                // a planar arc to measure to (not degenerate)
   Eigen::Vector3d centre, n, ea, eb;   // its centre, unit normal, and the spokes to t1 and t2
   double bend_radius_mm = 0, s_ab = 0;
