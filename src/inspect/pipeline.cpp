@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "ewis/core/error.hpp"
@@ -64,8 +65,24 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
                          const ProgressFn& progress) {
   InspectionResult res;
   StepClock clock(res.timings);
+  // Cables are traced, measured and checked in parallel: progress may come from any thread.
+  std::mutex progress_mutex;
   auto report = [&](const char* stage, double f) {
-    if (progress) progress(stage, f);
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress(stage, f);
+  };
+  // Runs body(c) for every cable at once (each cable's work is its own, so the results are those of one at a
+  // time), reporting the stage's progress as cables finish.
+  const auto each_cable = [&](std::size_t n, const char* stage, const auto& body) {
+    std::size_t done = 0;  // under progress_mutex
+    report(stage, 0.0);
+    parallel_for_each_index(n, [&](std::size_t c) {
+      body(c);
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      ++done;
+      if (progress) progress(stage, double(done) / double(n));
+    }, 1);
   };
   res.scan_points = scan.size();
   if (scan.empty()) throw ProcessingError("the scan has no points");
@@ -166,10 +183,21 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   // Points on a rigid CAD surface are never cable points (paper 4.2.1: the trace must not climb onto a
   // bracket or run along a plate).
   std::vector<std::int32_t> rigid_label(cloud.size(), -1);
-  parallel_for_each_index(cloud.size(), [&](std::size_t i) {
-    const SurfacePoint s = rigid_surfaces.closest(cloud.points[i].cast<double>(), params.rigid_surface_mm);
-    if (s.found()) rigid_label[i] = s.element;
-  }, 2048);
+  parallel_blocks(cloud.size(), 2048, [&](std::size_t b, std::size_t e) {
+    // The cloud is in leaf order: a run of consecutive points is a small patch, and the surface index is walked
+    // once per run.
+    constexpr std::size_t kRun = 16;
+    Eigen::Vector3d p[kRun];
+    SurfacePoint s[kRun];
+    std::vector<std::uint32_t> leaves;
+    for (std::size_t i = b; i < e; i += kRun) {
+      const std::size_t n = std::min(kRun, e - i);
+      for (std::size_t j = 0; j < n; ++j) p[j] = cloud.points[i + j].cast<double>();
+      rigid_surfaces.closest_group(p, n, params.rigid_surface_mm, s, leaves);
+      for (std::size_t j = 0; j < n; ++j)
+        if (s[j].found()) rigid_label[i + j] = s[j].element;
+    }
+  });
   std::vector<std::uint8_t> usable(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) usable[i] = rigid_label[i] < 0 ? 1 : 0;
   std::vector<std::size_t> points_on_element(scene.elements.size(), 0);  // the rigid elements' point counts
@@ -296,8 +324,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     }
     return runs;
   };
-  for (std::size_t c = 0; c < cable_plans.size(); ++c) {
-    report("trace", double(c) / double(cable_plans.size()));
+  each_cable(cable_plans.size(), "trace", [&](std::size_t c) {
     const PlanElement& pe = *cable_plans[c];
     CableInspection& ci = res.cables[c];
     ci.name = pe.name;
@@ -308,7 +335,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     ci.clearance_mm = pe.clearance_mm;
     seeds_of[c] = cad_seeds(c);
     ci.runs = trace_runs(c, usable);
-  }
+  });
   // Touching cables (a bundle tied together, one cable lying on another): traced alone, a cable takes in the
   // sliver of its neighbour's surface beside the contact, which lies within its own surface band; its fitted
   // axis leans towards the neighbour and its radius grows (two 5.6 mm cables touching: +7 % each, a 4 mm one
@@ -330,9 +357,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
         }
       if (!radii.empty()) first[c].radius_mm = median_in_place(radii);
     }
-    std::vector<std::optional<std::vector<TubeTrace>>> again(cable_plans.size());
-    for (std::size_t c = 0; c < cable_plans.size(); ++c) {
-      if (first[c].chain.empty()) continue;
+    std::vector<std::optional<std::vector<TubeTrace>>> again(cable_plans.size());  // traced again, all at once
+    parallel_for_each_index(cable_plans.size(), [&](std::size_t c) {
+      if (first[c].chain.empty()) return;
       std::vector<std::uint8_t> mask;
       std::size_t dropped = 0;
       for (std::size_t o = 0; o < cable_plans.size(); ++o) {
@@ -353,7 +380,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
           }
       }
       if (dropped > 0) again[c] = trace_runs(c, mask);
-    }
+    }, 1);
     for (std::size_t c = 0; c < cable_plans.size(); ++c)
       if (again[c] && !again[c]->empty()) res.cables[c].runs = std::move(*again[c]);
   }
@@ -398,10 +425,10 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("trace", 1.0);
   clock.lap("trace");
 
-  // paper 4.3.1: bend radius.
-  for (std::size_t c = 0; c < res.cables.size(); ++c) {
+  // paper 4.3.1: bend radius, every cable at once.
+  parallel_for_each_index(res.cables.size(), [&](std::size_t c) {
     CableInspection& ci = res.cables[c];
-    if (!ci.found) continue;
+    if (!ci.found) return;
     ci.diameter_mm = 2.0 * ci.trace.radius_mm;
     ci.length_mm = ci.trace.length_mm;
     // The smallest radius over the runs; the paper's figure from the same run.
@@ -439,7 +466,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       ok = measured_radius >= ci.allowed_bend_radius_mm;
     }
     ci.bend_ok = ok;
-  }
+  }, 1);
   clock.lap("bend");
 
   // paper 4.3.2: interference, cable by cable.
@@ -451,10 +478,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   const double hidden_margin = params.hidden_margin_mm;
   // The scene's BVH for every cable: a hit on the cable being checked is passed through.
   return_free_heap_to_os();
-  for (std::size_t c = 0; c < res.cables.size(); ++c) {
-    report("interference", double(c) / double(res.cables.size()));
+  each_cable(res.cables.size(), "interference", [&](std::size_t c) {
     CableInspection& ci = res.cables[c];
-    if (!ci.found) continue;
+    if (!ci.found) return;
     std::vector<int> ignore = {ci.element};
     for (const std::string& a : cable_plans[c]->attached) ignore.push_back(scene.find(a));
     InterferenceParams ip = params.interference;
@@ -487,8 +513,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     };
     ci.interferences = find_interferences(cloud, tree, scene, rigid_surfaces, measured, c, ignore, ip, context);
     ci.clearance_ok = ci.interferences.empty();
-  }
-  report("interference", 1.0);
+  });
   clock.lap("interference");
   return_free_heap_to_os();  // before the caller writes reports and pictures
 

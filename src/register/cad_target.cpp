@@ -3,6 +3,7 @@
 #include "ewis/register/cad_target.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
@@ -100,9 +101,11 @@ std::vector<std::uint32_t> points_away_from_cables(const std::vector<Eigen::Vect
   const double zone = target.cable_margin_mm + extra_margin_mm + target.spacing_mm;
   const float zone_sq = static_cast<float>(zone * zone);
   const KdTree& tree = *target.cable_tree;
+  // Only whether the nearest cable sample lies within the zone matters: the search stops a hair beyond it.
+  const float reach = static_cast<float>(zone * (1.0 + 1e-4));
   return parallel_select(source.size(), [&](std::size_t i) {
     const Eigen::Vector3f p = (source_to_cad * source[i].cast<double>()).cast<float>();
-    return tree.nearest(p).distance_sq > zone_sq;
+    return tree.nearest(p, reach, std::numeric_limits<std::uint32_t>::max()).distance_sq > zone_sq;
   });
 }
 

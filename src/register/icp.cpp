@@ -66,6 +66,10 @@ std::vector<double> distance_schedule(const IcpParams& p) {
   return out;
 }
 
+// The bound of a nearest-neighbour search whose answer is kept when within max_distance_mm (tested in double):
+// a hair wider, so that the float search never drops what the double test keeps.
+float search_reach(double max_distance_mm) { return static_cast<float>(max_distance_mm * (1.0 + 1e-4) + 1e-6); }
+
 void check_inputs(const std::vector<Eigen::Vector3f>& source, const Cloud& target, const KdTree& tree) {
   if (source.empty()) throw InputError("", "registration: the source has no points");
   if (target.empty() || tree.size() == 0) throw InputError("", "registration: the target has no points");
@@ -86,6 +90,7 @@ RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& sou
   check_inputs(source, target, target_tree);
   const std::vector<std::uint32_t> idx = source_indices.empty() ? all_indices(source.size()) : source_indices;
   const double max_sq = inlier_distance_mm * inlier_distance_mm;
+  const float reach = search_reach(inlier_distance_mm);
   const Eigen::Matrix3d R = source_to_target.linear();
   const Eigen::Vector3d t = source_to_target.translation();
   const Cost sum = parallel_reduce_ordered<Cost>(
@@ -94,7 +99,7 @@ RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& sou
         Cost c;
         for (std::size_t i = b; i < e; ++i) {
           const Eigen::Vector3d p = R * source[idx[i]].cast<double>() + t;
-          const Neighbor nb = target_tree.nearest(p.cast<float>());
+          const Neighbor nb = target_tree.nearest(p.cast<float>(), reach, UINT32_MAX);
           if (nb.index == UINT32_MAX) continue;
           const Eigen::Vector3d q = target.points[nb.index].cast<double>();
           if ((p - q).squaredNorm() > max_sq) continue;
@@ -133,6 +138,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
   total_iterations = 0;
   stage_converged = false;
   std::vector<Corr> corr;
+  std::vector<std::uint32_t> hint(source.size(), UINT32_MAX);  // per source point: its last correspondence
 
   for (std::size_t s = 0; s < schedule.size(); ++s) {
     const double d = schedule[s];
@@ -140,6 +146,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
     const std::vector<std::uint32_t>& idx = is_coarse ? coarse : all;
     const double c = icp_kernel_scale_mm(params, d);
     const double max_sq = d * d;
+    const float reach = search_reach(d);
     corr.assign(idx.size(), Corr{});
     stage_converged = false;
     double lambda = params.lm_initial_lambda;
@@ -164,9 +171,12 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
             for (std::size_t i = b; i < e; ++i) {
               Corr& k = corr[i];
               const Eigen::Vector3d p = R * source[idx[i]].cast<double>() + t;
-              const Neighbor nb = target_tree.nearest(p.cast<float>());
+              // From the last iteration's answer: after a small step it is at or near the new one.
+              std::uint32_t& h = hint[idx[i]];
+              const Neighbor nb = target_tree.nearest(p.cast<float>(), reach, h);
               k.valid = false;
               if (nb.index == UINT32_MAX) continue;
+              h = nb.index;
               const Eigen::Vector3d q = target.points[nb.index].cast<double>();
               if ((p - q).squaredNorm() > max_sq) continue;
               k.n = target.normals[nb.index].cast<double>();

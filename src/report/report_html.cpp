@@ -6,6 +6,7 @@
 #include <memory>
 #include <sstream>
 
+#include "ewis/core/parallel.hpp"
 #include "ewis/report/pictures.hpp"
 
 namespace ewis {
@@ -175,11 +176,32 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
 
   // The scan as the sensor saw it.
   const PointLabels labels = label_points(r);
+  // The pictures: the scan, then each defect's pair, each a function of the result alone (the page is the same
+  // for any thread count). The scan's picture first, alone (its full-size buffers and the CAD's ray caster at
+  // once would set the run's peak memory: 52 -> 58 MB on the demo); then the close-ups, in parallel.
+  const std::vector<DefectView> views = defect_views(r, params.max_closeups);
+  const bool render_cad = !views.empty() && params.render_cad && !scene.triangles.empty();
+  const std::size_t per_view = render_cad ? 2 : 1;
+  std::vector<std::string> img(1 + per_view * views.size());
+  img[0] = png_img(splat_scan(r, labels, report_camera(plan, params.scan_image_width_px), r.scan_to_cad),
+                   "scan from the registered sensor pose", "scan");
+  if (!views.empty()) {
+    std::unique_ptr<Raycaster> caster;
+    if (render_cad) caster = std::make_unique<Raycaster>(scene);
+    parallel_for_each_index(img.size() - 1, [&](std::size_t k) {
+      const std::size_t v = k / per_view;
+      const CloseupCamera cam = closeup_camera(r, views[v], params.closeup_width_px, params.closeup_height_px);
+      img[1 + k] = k % per_view == 0
+                       ? png_img(closeup_splat(r, labels, views[v], cam), "scan points around " + views[v].title,
+                                 "closeup")
+                       : png_img(closeup_render(r, labels, *caster, views[v], cam), "CAD around " + views[v].title,
+                                 "closeup");
+    }, 1);
+  }
+
   o << "<h2>The scan as the sensor saw it</h2>\n";
   {
-    const Camera cam = report_camera(plan, params.scan_image_width_px);
-    const Image img = splat_scan(r, labels, cam, r.scan_to_cad);
-    o << "<figure>" << png_img(img, "scan from the registered sensor pose", "scan") << "\n<figcaption>"
+    o << "<figure>" << img[0] << "\n<figcaption>"
       << r.cloud.size() << " filtered points seen from the registered sensor pose. <span class=\"legend\">";
     for (std::size_t k = 0; k < r.cables.size(); ++k) o << swatch(cable_color(k)) << html_escape(r.cables[k].name);
     o << swatch(interference_color(false)) << "interference (CAD element)" << swatch(interference_color(true))
@@ -189,21 +211,16 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
   }
 
   // Close-ups of each defect.
-  const std::vector<DefectView> views = defect_views(r, params.max_closeups);
   o << "<h2>Defects</h2>\n";
   if (views.empty()) {
     o << "<p>No bend-radius or clearance defect to show" << (failed ? " (see the tables for cables not found)" : "")
       << ".</p>\n";
   } else {
-    std::unique_ptr<Raycaster> caster;
-    if (params.render_cad && !scene.triangles.empty()) caster = std::make_unique<Raycaster>(scene);
     for (std::size_t v = 0; v < views.size(); ++v) {
-      const CloseupCamera cam = closeup_camera(r, views[v], params.closeup_width_px, params.closeup_height_px);
-      o << "<figure class=\"pair\">"
-        << png_img(closeup_splat(r, labels, views[v], cam), "scan points around " + views[v].title, "closeup");
-      if (caster) o << png_img(closeup_render(r, labels, *caster, views[v], cam), "CAD around " + views[v].title, "closeup");
+      o << "<figure class=\"pair\">";
+      for (std::size_t k = 0; k < per_view; ++k) o << img[1 + v * per_view + k];
       o << "\n<figcaption><b>" << v + 1 << ". " << html_escape(views[v].title) << "</b> &mdash; left: the scan points"
-        << (caster ? "; right: the registered CAD (ray cast)" : "") << ", seen from the sensor, &plusmn;"
+        << (render_cad ? "; right: the registered CAD (ray cast)" : "") << ", seen from the sensor, &plusmn;"
         << num(views[v].half_extent_mm, 0) << " mm around " << vec(views[v].target)
         << ". White lines: the measured chain axes; yellow: the measured gap; magenta: the fitted bend circle."
         << "</figcaption></figure>\n";

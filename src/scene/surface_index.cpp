@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ewis {
 
@@ -116,20 +117,7 @@ SurfacePoint SurfaceIndex::closest(const Eigen::Vector3d& p, double max_distance
     const Node& n = nodes_[stack[--top]];
     if (box_distance_sq(p, n.lo, n.hi) > best_d2) continue;
     if (n.count > 0) {
-      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
-        const std::uint32_t t = order_[i];
-        const auto& tri = scene_->triangles[t];
-        const Eigen::Vector3d q = closest_point_on_triangle(p, scene_->vertices[tri[0]].cast<double>(),
-                                                            scene_->vertices[tri[1]].cast<double>(),
-                                                            scene_->vertices[tri[2]].cast<double>());
-        const double d2 = (q - p).squaredNorm();
-        if (d2 < best_d2 || (d2 == best_d2 && best.element >= 0 && t < best.triangle)) {
-          best_d2 = d2;
-          best.triangle = t;
-          best.element = static_cast<std::int32_t>(scene_->triangle_element[t]);
-          best.point = q;
-        }
-      }
+      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) test_triangle(order_[i], p, best_d2, best);
       continue;
     }
     // Nearer child last, so it is visited first.
@@ -146,6 +134,78 @@ SurfacePoint SurfaceIndex::closest(const Eigen::Vector3d& p, double max_distance
   }
   if (best.element >= 0) best.distance_mm = std::sqrt(best_d2);
   return best;
+}
+
+void SurfaceIndex::test_triangle(std::uint32_t t, const Eigen::Vector3d& p, double& best_d2, SurfacePoint& best) const {
+  const auto& tri = scene_->triangles[t];
+  const Eigen::Vector3d q = closest_point_on_triangle(p, scene_->vertices[tri[0]].cast<double>(),
+                                                      scene_->vertices[tri[1]].cast<double>(),
+                                                      scene_->vertices[tri[2]].cast<double>());
+  const double d2 = (q - p).squaredNorm();
+  if (d2 < best_d2 || (d2 == best_d2 && best.element >= 0 && t < best.triangle)) {
+    best_d2 = d2;
+    best.triangle = t;
+    best.element = static_cast<std::int32_t>(scene_->triangle_element[t]);
+    best.point = q;
+  }
+}
+
+void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
+                                 SurfacePoint* out, std::vector<std::uint32_t>& leaves) const {
+  if (n == 0) return;
+  bool finite = std::isfinite(max_distance_mm);
+  Eigen::Vector3d glo = points[0], ghi = points[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    finite = finite && points[i].allFinite();
+    glo = glo.cwiseMin(points[i]);
+    ghi = ghi.cwiseMax(points[i]);
+  }
+  if (!finite || nodes_.empty()) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = closest(points[i], max_distance_mm);
+    return;
+  }
+  // Every leaf within the distance of the group's box: each point's answer lies in one of them (a hair of
+  // slack keeps a box exactly at the distance).
+  const double reach_sq = max_distance_mm * max_distance_mm * (1.0 + 1e-9);
+  leaves.clear();
+  std::uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const std::uint32_t id = stack[--top];
+    const Node& nd = nodes_[id];
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double v = std::max({double(nd.lo[k]) - ghi[k], glo[k] - double(nd.hi[k]), 0.0});
+      d2 += v * v;
+    }
+    if (d2 > reach_sq) continue;
+    if (nd.count > 0) {
+      leaves.push_back(id);
+    } else if (top + 2 <= 128) {
+      stack[top++] = nd.right;
+      stack[top++] = nd.left;
+    }
+  }
+  // Per point, the same least (squared distance, triangle index) as closest(): the leaves it can reach in
+  // turn, the last point's triangle first (its distance prunes most of them).
+  std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = points[i];
+    SurfacePoint best;
+    double best_d2 = max_distance_mm * max_distance_mm;
+    if (hint != std::numeric_limits<std::uint32_t>::max()) test_triangle(hint, p, best_d2, best);
+    for (std::uint32_t id : leaves) {
+      const Node& nd = nodes_[id];
+      if (box_distance_sq(p, nd.lo, nd.hi) > best_d2) continue;
+      for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) test_triangle(order_[k], p, best_d2, best);
+    }
+    if (best.element >= 0) {
+      best.distance_mm = std::sqrt(best_d2);
+      hint = best.triangle;
+    }
+    out[i] = best;
+  }
 }
 
 SurfacePoint SurfaceIndex::closest_to_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double step_mm,

@@ -53,6 +53,14 @@ class KnnSet {
   std::size_t size() const { return count_; }
   // while full, a point at exactly the k-th distance may still win on its smaller index
   float worstDist() const { return worst_; }
+  // Nothing farther than sqrt(distance_sq) can enter (on an empty set).
+  void bound(float distance_sq) { worst_ = std::min(worst_, inclusive(distance_sq)); }
+  // A point known before the search (its caller's index): the search then only visits what can beat it.
+  void seed(std::uint32_t index, float d) {
+    buf_[0] = {index, d};
+    count_ = 1;
+    if (count_ == k_) worst_ = inclusive(d);
+  }
   bool addPoint(float d, std::uint32_t slot) {
     const std::uint32_t idx = ids_ ? ids_[slot] : slot;  // ties compare the caller's indices
     auto less = [](float da, std::uint32_t ia, const Neighbor& b) {
@@ -438,6 +446,23 @@ Neighbor KdTree::nearest(const Eigen::Vector3f& query) const {
   Neighbor best{std::numeric_limits<std::uint32_t>::max(), std::numeric_limits<float>::infinity()};
   if (!impl_ || impl_->count == 0 || !is_finite(query)) return best;
   KnnSet set(&best, 1, impl_->id_map());
+  impl_->find(set, query);
+  return best;
+}
+
+Neighbor KdTree::nearest(const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint) const {
+  Neighbor best{std::numeric_limits<std::uint32_t>::max(), std::numeric_limits<float>::infinity()};
+  if (!impl_ || impl_->count == 0 || !is_finite(query) || !(max_distance_mm >= 0)) return best;
+  const float max_sq = max_distance_mm * max_distance_mm;
+  KnnSet set(&best, 1, impl_->id_map());
+  const std::vector<Eigen::Vector3f>& pts = *impl_->points;
+  // The hint enters as a found point (with the tree's own distance arithmetic): the answer is still the least
+  // (distance, index), whatever was found first.
+  if (hint < pts.size() && is_finite(pts[hint])) {
+    const float d = dist_sq(pts[hint], query.data());
+    if (d <= max_sq) set.seed(hint, d);
+  }
+  set.bound(max_sq);
   impl_->find(set, query);
   return best;
 }

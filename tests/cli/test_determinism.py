@@ -4,6 +4,7 @@ folder that exists is reused without deleting unrelated files."""
 import filecmp
 import json
 import os
+import re
 import random
 import signal
 import subprocess
@@ -123,8 +124,15 @@ class ThreadsAndRuns(unittest.TestCase):
 
     def test_inspect(self):
         s = self.scene
-        self.runs(lambda out: ["inspect", "--cad", s.cad, "--plan", s.plan, "--scan", self.noisy, "--pose", s.pose,
-                               "--out", out], ["report.json"], "inspect")
+        outs = self.runs(lambda out: ["inspect", "--cad", s.cad, "--plan", s.plan, "--scan", self.noisy, "--pose",
+                                      s.pose, "--out", out],
+                         ["report.json", "cables.ply", "interferences.ply", "rest.ply"], "inspect")
+        # The page too (its pictures are made in parallel), but for its table of times per step.
+        pages = [re.sub(rb"<h3>Time per step</h3>.*?</table>", b"", read(os.path.join(out, "report.html")), flags=re.S)
+                 for out, _ in outs]
+        self.assertIn(b"data:image/png;base64,", pages[0])
+        for page in pages[1:]:
+            self.assertEqual(pages[0], page, "inspect: report.html differs beyond its times")
 
     def test_simulate(self):
         t1, t2 = SimulatedScene.get()

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "ewis/inspect/chain_distance.hpp"
@@ -125,6 +126,48 @@ TEST(SurfaceIndex, ExactDistanceToABox) {
   const SurfacePoint seg = idx.closest_to_segment({-20, 5, 17}, {30, 5, 12}, 0.5);
   // z falls 1 mm per 10 mm of x: past the box edge (x 10, z 10) the least distance is 4 / sqrt(1.01)
   EXPECT_NEAR(seg.distance_mm, 4.0 / std::sqrt(1.01), 1e-4);
+}
+
+// closest_group answers as closest() point by point: patches of points near (and on) a box and a sphere that
+// touch, within and beyond the distance, and the box's coplanar faces (ties between its two triangles).
+TEST(SurfaceIndex, AGroupOfPointsGetsEachPointsOwnAnswer) {
+  Scene s;
+  add_mesh(s, "box", make_box({0, 0, 0}, {10, 10, 10}));
+  add_mesh(s, "ball", make_sphere({16, 5, 5}, 6.0, 24, 12));
+  add_mesh(s, "far", make_box({40, 0, 0}, {41, 1, 1}));
+  const SurfaceIndex idx(s, {0, 1, 2});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> centre(-3.0, 25.0), offset(-1.5, 1.5);
+  std::vector<std::uint32_t> leaves;
+  int found = 0, missed = 0;
+  for (int g = 0; g < 300; ++g) {
+    const Eigen::Vector3d c(centre(rng), centre(rng) * 0.5, centre(rng) * 0.5);
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < 16; ++i) pts.push_back(c + Eigen::Vector3d(offset(rng), offset(rng), offset(rng)));
+    if (g % 3 == 0) pts[3] = Eigen::Vector3d(5, 5, 10.0 + 0.5 * (g % 5));  // above the top face's diagonal
+    for (double limit : {0.5, 1.5, 4.0}) {
+      std::vector<SurfacePoint> got(pts.size());
+      idx.closest_group(pts.data(), pts.size(), limit, got.data(), leaves);
+      for (std::size_t i = 0; i < pts.size(); ++i) {
+        const SurfacePoint want = idx.closest(pts[i], limit);
+        ASSERT_EQ(got[i].found(), want.found()) << g << " " << i;
+        if (!want.found()) {
+          ++missed;
+          continue;
+        }
+        ++found;
+        EXPECT_EQ(got[i].triangle, want.triangle);
+        EXPECT_EQ(got[i].element, want.element);
+        EXPECT_EQ(got[i].distance_mm, want.distance_mm);
+      }
+    }
+  }
+  EXPECT_GT(found, 1000);
+  EXPECT_GT(missed, 1000);
+  std::vector<SurfacePoint> one(1);
+  const Eigen::Vector3d inf(std::numeric_limits<double>::infinity(), 0, 0);
+  idx.closest_group(&inf, 1, 1.0, one.data(), leaves);
+  EXPECT_FALSE(one[0].found());
 }
 
 TEST(ChainDistance, SegmentsAndChains) {

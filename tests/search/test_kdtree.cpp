@@ -93,6 +93,19 @@ TEST_P(KdTreeBrute, KnnRadiusCountNearestMatchBruteForce) {
     const Neighbor nn = tree.nearest(q);
     EXPECT_EQ(nn.index, all[0].index);
     EXPECT_EQ(nn.distance_sq, all[0].distance_sq);
+    // Bounded and hinted: the same answer within the bound (ties still by index: on the lattice the hint is
+    // often a tied point of a larger index), none beyond it, whatever the hint.
+    for (float r : {0.0f, 1.0f, 2.0f, 7.5f, 1e4f})
+      for (std::uint32_t hint : {std::numeric_limits<std::uint32_t>::max(), all[0].index, all[1].index,
+                                 all[all.size() / 2].index, all.back().index, std::uint32_t(pts.size() + 5)}) {
+        const Neighbor b = tree.nearest(q, r, hint);
+        if (all[0].distance_sq <= r * r) {
+          EXPECT_EQ(b.index, all[0].index) << "r " << r << " hint " << hint;
+          EXPECT_EQ(b.distance_sq, all[0].distance_sq);
+        } else {
+          EXPECT_EQ(b.index, std::numeric_limits<std::uint32_t>::max()) << "r " << r << " hint " << hint;
+        }
+      }
     for (float r : {0.0f, 1.0f, 1.5f, 2.0f, 7.5f}) {
       std::vector<Neighbor> want;
       for (const auto& nb : all)

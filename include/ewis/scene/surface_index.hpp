@@ -33,6 +33,11 @@ class SurfaceIndex {
   bool contains(int element) const { return std::binary_search(elements_.begin(), elements_.end(), element); }
   // Closest surface point within max_distance_mm (exact point-to-triangle distance). Thread-safe.
   SurfacePoint closest(const Eigen::Vector3d& p, double max_distance_mm = std::numeric_limits<double>::infinity()) const;
+  // closest(points[i], max_distance_mm) for each of a few points near one another (e.g. consecutive points of a
+  // cloud in leaf order) into out[i]: the same answers, the tree walked once for the group's box (a finite
+  // max_distance_mm; else point by point). `leaves` is scratch, kept by the caller between calls.
+  void closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm, SurfacePoint* out,
+                     std::vector<std::uint32_t>& leaves) const;
   // Least distance from the segment [a, b] to the surface, sampled every step_mm along the segment and refined
   // around the best sample (error far below step for smooth surfaces); infinity when beyond max_distance_mm.
   SurfacePoint closest_to_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double step_mm = 0.25,
@@ -49,6 +54,8 @@ class SurfaceIndex {
   std::vector<std::uint32_t> order_;  // triangle indices
   std::vector<int> elements_;
   std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Eigen::Vector3f>& centroids, int depth);
+  // Triangle t against the best so far: the least (squared distance, triangle index) below best_d2 wins.
+  void test_triangle(std::uint32_t t, const Eigen::Vector3d& p, double& best_d2, SurfacePoint& best) const;
 };
 
 // Closest point to p on triangle (a, b, c) (Ericson, Real-Time Collision Detection 5.1.5).

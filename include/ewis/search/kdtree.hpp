@@ -43,6 +43,10 @@ class KdTree {
   void knn(const Eigen::Vector3f& query, int k, std::vector<Neighbor>& out) const;
   // Nearest point; index -1 (as uint32 max) and infinite distance when the tree is empty.
   Neighbor nearest(const Eigen::Vector3f& query) const;
+  // The same answer as nearest() when that lies within max_distance_mm (inclusive), else none (index -1):
+  // found faster, the bound pruning the walk, and faster still from `hint`, the index of a point near the
+  // answer (e.g. the answer to a nearby query, or to the same query before a small move; -1: none).
+  Neighbor nearest(const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint) const;
   // All points within radius_mm (inclusive), sorted by distance then index.
   void radius(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const;
   // Number of points within radius_mm (inclusive), stopping early once `stop_at` are found.
