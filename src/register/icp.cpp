@@ -7,11 +7,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
 #include "ewis/core/robust.hpp"
+#include "ewis/search/moving_nearest.hpp"
 
 namespace ewis {
 namespace {
@@ -139,6 +141,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
   stage_converged = false;
   std::vector<Corr> corr;
   std::vector<std::uint32_t> hint(source.size(), UINT32_MAX);  // per source point: its last correspondence
+  MovingNearest near(target_tree, source.size());  // for the fine stages (the coarse ones move too far per step)
 
   for (std::size_t s = 0; s < schedule.size(); ++s) {
     const double d = schedule[s];
@@ -173,7 +176,8 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
               const Eigen::Vector3d p = R * source[idx[i]].cast<double>() + t;
               // From the last iteration's answer: after a small step it is at or near the new one.
               std::uint32_t& h = hint[idx[i]];
-              const Neighbor nb = target_tree.nearest(p.cast<float>(), reach, h);
+              const Neighbor nb = is_coarse ? target_tree.nearest(p.cast<float>(), reach, h)
+                                            : near.nearest(idx[i], p.cast<float>(), reach, h);
               k.valid = false;
               if (nb.index == UINT32_MAX) continue;
               h = nb.index;

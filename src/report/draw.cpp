@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ewis/core/parallel.hpp"
+
 namespace ewis::report_detail {
 
 SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const std::vector<std::uint8_t>& keep,
@@ -66,7 +68,8 @@ std::vector<float> eye_dome_factor(const SplatBuffer& buf, double strength) {
   const int w = buf.width_px, h = buf.height_px;
   std::vector<float> f(buf.depth_mm.size(), 1.0f);
   static const int off[8][2] = {{2, 0}, {-2, 0}, {0, 2}, {0, -2}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
-  for (int y = 0; y < h; ++y)
+  parallel_for_each_index(std::size_t(std::max(h, 0)), [&](std::size_t row) {  // rows at once: each pixel its own
+    const int y = static_cast<int>(row);
     for (int x = 0; x < w; ++x) {
       const float z = buf.depth_mm[std::size_t(y) * w + x];
       if (!std::isfinite(z)) continue;
@@ -81,6 +84,7 @@ std::vector<float> eye_dome_factor(const SplatBuffer& buf, double strength) {
       }
       f[std::size_t(y) * w + x] = static_cast<float>(std::exp(-strength * sum / 8.0));
     }
+  }, 16);
   return f;
 }
 

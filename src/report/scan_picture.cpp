@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "draw.hpp"
+#include "ewis/core/parallel.hpp"
 #include "ewis/report/pictures.hpp"
 
 namespace ewis {
@@ -18,7 +19,8 @@ Image shade_splat(const InspectionResult& r, const PointLabels& labels, const Sp
   if (!depth_range(buf, near_mm, far_mm)) return img;
   std::vector<float> shade;
   if (edl) shade = eye_dome_factor(buf);
-  for (int y = 0; y < buf.height_px; ++y)
+  parallel_for_each_index(std::size_t(std::max(buf.height_px, 0)), [&](std::size_t row) {  // each pixel its own
+    const int y = static_cast<int>(row);
     for (int x = 0; x < buf.width_px; ++x) {
       const std::size_t k = std::size_t(y) * buf.width_px + x;
       const std::int32_t i = buf.point[k];
@@ -39,6 +41,7 @@ Image shade_splat(const InspectionResult& r, const PointLabels& labels, const Sp
       if (edl) c = scale_rgb(c, 0.45 + 0.55 * shade[k]);  // subtle: outlines, not black rings
       put_pixel(img, x, y, c);
     }
+  }, 16);
   return img;
 }
 

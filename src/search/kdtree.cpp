@@ -467,6 +467,10 @@ Neighbor KdTree::nearest(const Eigen::Vector3f& query, float max_distance_mm, st
   return best;
 }
 
+float KdTree::distance_sq(std::uint32_t index, const Eigen::Vector3f& query) const {
+  return dist_sq((*impl_->points)[index], query.data());
+}
+
 void KdTree::radius(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const {
   radius_unsorted(query, radius_mm, out);
   std::sort(out.begin(), out.end(), [](const Neighbor& a, const Neighbor& b) {

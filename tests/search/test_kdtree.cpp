@@ -8,6 +8,7 @@
 #include <random>
 
 #include "ewis/search/kdtree.hpp"
+#include "ewis/search/moving_nearest.hpp"
 #include "ewis/search/spatial_sort.hpp"
 
 using namespace ewis;
@@ -292,4 +293,40 @@ TEST(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) {
   const Cloud sorted = cloud;
   sort_for_search(cloud);  // sorting again changes nothing
   EXPECT_EQ(cloud.scalars[0].values, sorted.scalars[0].values);
+}
+
+// MovingNearest gives what the tree gives, for points walking in small and large steps (most answers from the
+// lists), within several distances, on the tie lattice (steps of whole units keep the walkers on it) and in a
+// random cloud, with the whole target smaller than a list too.
+TEST(MovingNearest, EveryAnswerIsTheTreesAnswer) {
+  struct Case {
+    std::vector<Eigen::Vector3f> pts;
+    float step;
+  };
+  const std::vector<Case> cases = {{random_cloud(21, 4000), 0.05f}, {random_cloud(22, 4000), 1.5f},
+                                   {tie_cloud(23, 1500), 0.5f}, {random_cloud(24, 5), 0.3f}};
+  for (const Case& cs : cases) {
+    const KdTree tree(cs.pts);
+    const std::size_t walkers = 40;
+    MovingNearest moving(tree, walkers);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> start(-40.f, 40.f);
+    std::uniform_int_distribution<int> dir(-1, 1);
+    std::vector<Eigen::Vector3f> at(walkers);
+    for (auto& p : at) p = {std::round(start(rng)), std::round(start(rng)), std::round(start(rng)) * 0.5f};
+    std::vector<std::uint32_t> hint(walkers, std::numeric_limits<std::uint32_t>::max());
+    for (int step = 0; step < 60; ++step) {
+      const float reach = step % 3 == 0 ? 1e4f : (step % 3 == 1 ? 3.0f : 0.6f);
+      for (std::size_t w = 0; w < walkers; ++w) {
+        at[w] += cs.step * Eigen::Vector3f(float(dir(rng)), float(dir(rng)), float(dir(rng)));
+        const Neighbor want = tree.nearest(at[w], reach, std::numeric_limits<std::uint32_t>::max());
+        const Neighbor got = moving.nearest(w, at[w], reach, hint[w]);
+        ASSERT_EQ(got.index, want.index) << "step " << step << " walker " << w << " reach " << reach;
+        if (want.index != std::numeric_limits<std::uint32_t>::max()) {
+          EXPECT_EQ(got.distance_sq, want.distance_sq);
+          hint[w] = got.index;
+        }
+      }
+    }
+  }
 }

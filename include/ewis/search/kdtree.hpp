@@ -47,6 +47,9 @@ class KdTree {
   // found faster, the bound pruning the walk, and faster still from `hint`, the index of a point near the
   // answer (e.g. the answer to a nearby query, or to the same query before a small move; -1: none).
   Neighbor nearest(const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint) const;
+  // The squared distance from point `index` (the caller's) to `query` in the tree's own arithmetic: a caller
+  // that picks among candidates by it (ties by index) picks what a search would.
+  float distance_sq(std::uint32_t index, const Eigen::Vector3f& query) const;
   // All points within radius_mm (inclusive), sorted by distance then index.
   void radius(const Eigen::Vector3f& query, float radius_mm, std::vector<Neighbor>& out) const;
   // Number of points within radius_mm (inclusive), stopping early once `stop_at` are found.
