@@ -241,7 +241,12 @@ TEST(KdTree, BatchesMatchSingleQueriesForAnyThreadCount) {
 
 // sort_for_search: the same points and attributes, permuted together; a tree over the sorted cloud uses the
 // points in place (identity spatial order) and answers as a tree over the original cloud, indices mapped.
-TEST(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) {
+class SortForSearch : public ::testing::TestWithParam<std::size_t> {};
+
+// Both ways of permuting: a copy per attribute (the default up to 4 Mi points) and in place (copy_max_points 0).
+INSTANTIATE_TEST_SUITE_P(CopyOrInPlace, SortForSearch, ::testing::Values(std::size_t(4) << 20, std::size_t(0)));
+
+TEST_P(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Cloud cloud;
   cloud.points = random_cloud(21, 5000);
@@ -257,7 +262,7 @@ TEST(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) {
   const KdTree before(original.points);
   ASSERT_NE(before.spatial_order().ids, nullptr);  // random order: the tree copies
 
-  sort_for_search(cloud);
+  sort_for_search(cloud, GetParam());
   ASSERT_EQ(cloud.size(), original.size());
   std::vector<bool> seen(cloud.size(), false);
   std::size_t finite = 0;
@@ -291,7 +296,7 @@ TEST(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) {
     EXPECT_EQ(before.count_within(q, 6.f, 1000), after.count_within(q, 6.f, 1000));
   }
   const Cloud sorted = cloud;
-  sort_for_search(cloud);  // sorting again changes nothing
+  sort_for_search(cloud, GetParam());  // sorting again changes nothing
   EXPECT_EQ(cloud.scalars[0].values, sorted.scalars[0].values);
 }
 
