@@ -174,7 +174,6 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
   }
   o << "</table>\n";
 
-  // The scan as the sensor saw it.
   const PointLabels labels = label_points(r);
   // The pictures: the scan, then each defect's pair, each a function of the result alone (the page is the same
   // for any thread count). The scan's picture first, alone (its full-size buffers and the CAD's ray caster at
@@ -199,6 +198,7 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
     }, 1);
   }
 
+  // The scan as the sensor saw it.
   o << "<h2>The scan as the sensor saw it</h2>\n";
   {
     o << "<figure>" << img[0] << "\n<figcaption>"
