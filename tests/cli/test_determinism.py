@@ -134,6 +134,16 @@ class ThreadsAndRuns(unittest.TestCase):
         for page in pages[1:]:
             self.assertEqual(pages[0], page, "inspect: report.html differs beyond its times")
 
+    def test_inspect_simulated_scene(self):
+        """A simulated scene of several cables (traced, measured and checked in parallel): the same report."""
+        t1, _ = SimulatedScene.get()
+        with open(os.path.join(t1, "plan.json")) as f:
+            cables = [e for e in json.load(f)["elements"] if e.get("kind") == "cable"]
+        self.assertGreaterEqual(len(cables), 2)
+        self.runs(lambda out: ["inspect", "--cad", os.path.join(t1, "scene.obj"), "--plan", os.path.join(t1, "plan.json"),
+                               "--scan", os.path.join(t1, "scan.ply"), "--pose", os.path.join(t1, "pose.txt"),
+                               "--out", out], ["report.json", "cables.ply"], "inspect-sim", threads_list=(1, 2))
+
     def test_simulate(self):
         t1, t2 = SimulatedScene.get()
         names = sorted(os.listdir(t1))
