@@ -102,7 +102,7 @@ std::vector<std::uint32_t> points_away_from_cables(const std::vector<Eigen::Vect
   const float zone_sq = static_cast<float>(zone * zone);
   const KdTree& tree = *target.cable_tree;
   // Only whether the nearest cable sample lies within the zone matters: the search stops a hair beyond it.
-  const float reach = static_cast<float>(zone * (1.0 + 1e-4));
+  const float reach = search_bound_mm(zone);
   return parallel_select(source.size(), [&](std::size_t i) {
     const Eigen::Vector3f p = (source_to_cad * source[i].cast<double>()).cast<float>();
     return tree.nearest(p, reach, std::numeric_limits<std::uint32_t>::max()).distance_sq > zone_sq;

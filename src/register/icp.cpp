@@ -68,10 +68,6 @@ std::vector<double> distance_schedule(const IcpParams& p) {
   return out;
 }
 
-// The bound of a nearest-neighbour search whose answer is kept when within max_distance_mm (tested in double):
-// a hair wider, so that the float search never drops what the double test keeps.
-float search_reach(double max_distance_mm) { return static_cast<float>(max_distance_mm * (1.0 + 1e-4) + 1e-6); }
-
 void check_inputs(const std::vector<Eigen::Vector3f>& source, const Cloud& target, const KdTree& tree) {
   if (source.empty()) throw InputError("", "registration: the source has no points");
   if (target.empty() || tree.size() == 0) throw InputError("", "registration: the target has no points");
@@ -92,7 +88,7 @@ RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& sou
   check_inputs(source, target, target_tree);
   const std::vector<std::uint32_t> idx = source_indices.empty() ? all_indices(source.size()) : source_indices;
   const double max_sq = inlier_distance_mm * inlier_distance_mm;
-  const float reach = search_reach(inlier_distance_mm);
+  const float reach = search_bound_mm(inlier_distance_mm);
   const Eigen::Matrix3d R = source_to_target.linear();
   const Eigen::Vector3d t = source_to_target.translation();
   const Cost sum = parallel_reduce_ordered<Cost>(
@@ -149,7 +145,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
     const std::vector<std::uint32_t>& idx = is_coarse ? coarse : all;
     const double c = icp_kernel_scale_mm(params, d);
     const double max_sq = d * d;
-    const float reach = search_reach(d);
+    const float reach = search_bound_mm(d);
     corr.assign(idx.size(), Corr{});
     stage_converged = false;
     double lambda = params.lm_initial_lambda;

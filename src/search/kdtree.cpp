@@ -443,11 +443,7 @@ void KdTree::knn(const Eigen::Vector3f& query, int k, std::vector<Neighbor>& out
 }
 
 Neighbor KdTree::nearest(const Eigen::Vector3f& query) const {
-  Neighbor best{std::numeric_limits<std::uint32_t>::max(), std::numeric_limits<float>::infinity()};
-  if (!impl_ || impl_->count == 0 || !is_finite(query)) return best;
-  KnnSet set(&best, 1, impl_->id_map());
-  impl_->find(set, query);
-  return best;
+  return nearest(query, std::numeric_limits<float>::infinity(), std::numeric_limits<std::uint32_t>::max());
 }
 
 Neighbor KdTree::nearest(const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint) const {
@@ -465,6 +461,10 @@ Neighbor KdTree::nearest(const Eigen::Vector3f& query, float max_distance_mm, st
   set.bound(max_sq);
   impl_->find(set, query);
   return best;
+}
+
+float search_bound_mm(double max_distance_mm) {
+  return static_cast<float>(max_distance_mm * (1.0 + 1e-4) + 1e-6);
 }
 
 float KdTree::distance_sq(std::uint32_t index, const Eigen::Vector3f& query) const {

@@ -63,6 +63,10 @@ class KdTree {
   std::unique_ptr<Impl> impl_;
 };
 
+// The bound to pass to nearest(query, bound, hint) when its answer is kept only within max_distance_mm by a test in
+// double (or on a float squared distance): a hair wider, so that the float search never drops what that test keeps.
+float search_bound_mm(double max_distance_mm);
+
 // The tree's leaf order of the finite points (indices into `points`), computed with 4 bytes a point of extra
 // memory (the tree itself copies the points): for permuting a cloud into leaf order (sort_for_search).
 std::vector<std::uint32_t> spatial_sort_order(const std::vector<Eigen::Vector3f>& points);
