@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libnanoflann-dev libembree-dev libtbb-dev libassimp-dev libcli11-dev nlohmann-json3-dev
-  libspdlog-dev libfmt-dev liblzf-dev libstb-dev
+  libspdlog-dev libfmt-dev liblzf-dev libstb-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-jsonschema
   chromium fonts-dejavu-core

@@ -21,11 +21,12 @@ SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const s
   const Eigen::Vector3d tr = -(rot * camera_to_cad.translation());
   const int r = std::clamp(radius_px, 0, 16);
   const int r2 = r * r + r;  // rounder small discs
+  const Camera::Projection projection = camera.projection();
   for (std::size_t i = 0; i < points_cad.size(); ++i) {
     if (!keep.empty() && !keep[i]) continue;
     const Eigen::Vector3d pc = rot * points_cad[i].cast<double>() + tr;
     double u, v;
-    if (pc.z() <= 1e-3 || !camera.project(pc, u, v)) continue;
+    if (pc.z() <= 1e-3 || !projection.project(pc, u, v)) continue;
     const int cx = static_cast<int>(std::floor(u)), cy = static_cast<int>(std::floor(v));
     if (cx < -r || cy < -r || cx >= buf.width_px + r || cy >= buf.height_px + r) continue;
     const float z = static_cast<float>(pc.z());

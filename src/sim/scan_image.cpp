@@ -26,9 +26,10 @@ Image scan_image(const Cloud& cloud, const Camera& camera) {
   std::vector<float> zbuf(std::size_t(camera.width_px) * camera.height_px, std::numeric_limits<float>::infinity());
   std::vector<float> ranges;
   ranges.reserve(cloud.size());
+  const Camera::Projection projection = camera.projection();
   for (const auto& p : cloud.points) {
     double u, v;
-    if (!camera.project(p.cast<double>(), u, v) || !camera.inside(u, v)) continue;
+    if (!projection.project(p.cast<double>(), u, v) || !camera.inside(u, v)) continue;
     const std::size_t i = std::size_t(int(v)) * camera.width_px + int(u);
     const float r = p.norm();
     zbuf[i] = std::min(zbuf[i], r);

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <stb/stb_image.h>
 
 #include <fstream>
 
@@ -31,6 +32,31 @@ TEST(ImageIo, EncodeAndWritePng) {
   EXPECT_TRUE(std::equal(png.begin(), png.end(), reinterpret_cast<const std::uint8_t*>(got.data())));
   EXPECT_THROW(write_png(img, tmp_dir() + "/no/dir/x.png"), InputError);
   EXPECT_THROW(encode_png(Image{}), std::invalid_argument);
+}
+
+// Decoded by an independent PNG reader (stb_image), every pixel comes back: smooth ramps, noise, edges, one
+// column and one row (the filter's first pixel and first row), odd sizes.
+TEST(ImageIo, PngDecodesToTheSamePixels) {
+  std::mt19937 rng(5);
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {1, 23}, {31, 1}, {64, 48}, {257, 131}}) {
+    Image img(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        std::uint8_t* p = img.at(x, y);
+        p[0] = static_cast<std::uint8_t>(x * 255 / std::max(1, w - 1));             // ramp
+        p[1] = static_cast<std::uint8_t>(rng() & 0xff);                               // noise
+        p[2] = static_cast<std::uint8_t>((x / 7 + y / 5) % 2 ? 250 : 3);              // edges
+      }
+    const std::vector<std::uint8_t> png = encode_png(img);
+    int dw = 0, dh = 0, channels = 0;
+    std::uint8_t* decoded = stbi_load_from_memory(png.data(), static_cast<int>(png.size()), &dw, &dh, &channels, 3);
+    ASSERT_NE(decoded, nullptr) << w << "x" << h << ": " << stbi_failure_reason();
+    EXPECT_EQ(dw, w);
+    EXPECT_EQ(dh, h);
+    EXPECT_EQ(channels, 3);
+    EXPECT_TRUE(std::equal(img.rgb.begin(), img.rgb.end(), decoded)) << w << "x" << h;
+    stbi_image_free(decoded);
+  }
 }
 
 TEST(ImageIo, Base64) {

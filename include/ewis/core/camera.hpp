@@ -21,13 +21,21 @@ struct Camera {
   // Ray through the centre of pixel (col, row).
   Eigen::Vector3d pixel_ray(int col, int row) const { return ray(col + 0.5, row + 0.5); }
 
+  // The projection with the focal length worked out once (a tangent), for loops over many points.
+  struct Projection {
+    double focal_px, cx, cy;
+    // Image point of a camera-frame point; false when behind the camera.
+    bool project(const Eigen::Vector3d& p_cam, double& u, double& v) const {
+      if (p_cam.z() <= 0) return false;
+      u = cx + focal_px * p_cam.x() / p_cam.z();
+      v = cy + focal_px * p_cam.y() / p_cam.z();
+      return true;
+    }
+  };
+  Projection projection() const { return {focal_px(), cx(), cy()}; }
+
   // Image point of a camera-frame point; false when behind the camera.
-  bool project(const Eigen::Vector3d& p_cam, double& u, double& v) const {
-    if (p_cam.z() <= 0) return false;
-    u = cx() + focal_px() * p_cam.x() / p_cam.z();
-    v = cy() + focal_px() * p_cam.y() / p_cam.z();
-    return true;
-  }
+  bool project(const Eigen::Vector3d& p_cam, double& u, double& v) const { return projection().project(p_cam, u, v); }
   bool inside(double u, double v) const { return u >= 0 && v >= 0 && u < width_px && v < height_px; }
 };
 
