@@ -37,33 +37,45 @@ std::vector<std::uint8_t> encode_png(const Image& image) {
   if (image.width_px <= 0 || image.height_px <= 0 ||
       image.rgb.size() != std::size_t(image.width_px) * std::size_t(image.height_px) * 3)
     throw std::invalid_argument("encode_png: image size and pixel buffer do not match");
-  const std::size_t stride = std::size_t(image.width_px) * 3, rows = std::size_t(image.height_px);
-  // Filter type 4 (Paeth) on every row; the row above the first and the pixel left of the first are zero.
-  std::vector<std::uint8_t> filtered((stride + 1) * rows);
-  for (std::size_t y = 0; y < rows; ++y) {
-    const std::uint8_t* row = image.rgb.data() + y * stride;
-    const std::uint8_t* up = y > 0 ? row - stride : nullptr;
-    std::uint8_t* out = filtered.data() + y * (stride + 1);
-    out[0] = 4;
-    for (std::size_t i = 0; i < stride; ++i) {
-      const int a = i >= 3 ? row[i - 3] : 0, b = up ? up[i] : 0, c = up && i >= 3 ? up[i - 3] : 0;
-      out[1 + i] = static_cast<std::uint8_t>(row[i] - paeth(a, b, c));
-    }
-  }
-  uLongf packed_size = compressBound(static_cast<uLong>(filtered.size()));
-  std::vector<std::uint8_t> packed(packed_size);
-  if (compress2(packed.data(), &packed_size, filtered.data(), static_cast<uLong>(filtered.size()), Z_BEST_SPEED) !=
-      Z_OK)
-    throw std::runtime_error("encode_png: deflate failed");
-
   std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  out.reserve(out.size() + 3 * 12 + 13 + packed_size);
   std::vector<std::uint8_t> header;
   put_u32(header, static_cast<std::uint32_t>(image.width_px));
   put_u32(header, static_cast<std::uint32_t>(image.height_px));
   header.insert(header.end(), {8, 2, 0, 0, 0});  // 8 bits, RGB, deflate, adaptive filtering, no interlace
   put_chunk(out, "IHDR", header.data(), header.size());
-  put_chunk(out, "IDAT", packed.data(), packed_size);
+
+  // Row by row: filter type 4 (Paeth) into one row's buffer (the row above the first and the pixel left of the
+  // first are zero), then on through the deflate stream; no copy of the whole filtered picture.
+  z_stream z{};
+  if (deflateInit(&z, Z_BEST_SPEED) != Z_OK) throw std::runtime_error("encode_png: deflate failed");
+  const std::size_t stride = std::size_t(image.width_px) * 3, rows = std::size_t(image.height_px);
+  std::vector<std::uint8_t> filtered(stride + 1), packed, chunk(1 << 16);
+  for (std::size_t y = 0; y < rows; ++y) {
+    const std::uint8_t* row = image.rgb.data() + y * stride;
+    const std::uint8_t* up = y > 0 ? row - stride : nullptr;
+    filtered[0] = 4;
+    for (std::size_t i = 0; i < stride; ++i) {
+      const int a = i >= 3 ? row[i - 3] : 0, b = up ? up[i] : 0, c = up && i >= 3 ? up[i - 3] : 0;
+      filtered[1 + i] = static_cast<std::uint8_t>(row[i] - paeth(a, b, c));
+    }
+    z.next_in = filtered.data();
+    z.avail_in = static_cast<uInt>(filtered.size());
+    const int flush = y + 1 == rows ? Z_FINISH : Z_NO_FLUSH;
+    int status = Z_OK;
+    do {
+      z.next_out = chunk.data();
+      z.avail_out = static_cast<uInt>(chunk.size());
+      status = deflate(&z, flush);
+      packed.insert(packed.end(), chunk.data(), chunk.data() + (chunk.size() - z.avail_out));
+    } while (status == Z_OK && (z.avail_in > 0 || (flush == Z_FINISH && z.avail_out == 0)));
+    if (status == Z_STREAM_ERROR || (flush == Z_FINISH && status != Z_STREAM_END)) {
+      deflateEnd(&z);
+      throw std::runtime_error("encode_png: deflate failed");
+    }
+  }
+  deflateEnd(&z);
+  out.reserve(out.size() + 2 * 12 + packed.size());
+  put_chunk(out, "IDAT", packed.data(), packed.size());
   put_chunk(out, "IEND", nullptr, 0);
   return out;
 }

@@ -2,6 +2,7 @@
 #include "draw.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "ewis/core/parallel.hpp"
@@ -14,45 +15,46 @@ SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const s
   buf.width_px = camera.width_px;
   buf.height_px = camera.height_px;
   const std::size_t n_px = std::size_t(std::max(0, buf.width_px)) * std::size_t(std::max(0, buf.height_px));
-  buf.depth_mm.assign(n_px, std::numeric_limits<float>::infinity());
-  buf.point.assign(n_px, -1);
+  buf.key.assign(n_px, SplatBuffer::kEmpty);
   if (n_px == 0) return buf;
   const Eigen::Matrix3d rot = camera_to_cad.linear().transpose();
   const Eigen::Vector3d tr = -(rot * camera_to_cad.translation());
   const int r = std::clamp(radius_px, 0, 16);
   const int r2 = r * r + r;  // rounder small discs
   const Camera::Projection projection = camera.projection();
-  for (std::size_t i = 0; i < points_cad.size(); ++i) {
-    if (!keep.empty() && !keep[i]) continue;
-    const Eigen::Vector3d pc = rot * points_cad[i].cast<double>() + tr;
-    double u, v;
-    if (pc.z() <= 1e-3 || !projection.project(pc, u, v)) continue;
-    const int cx = static_cast<int>(std::floor(u)), cy = static_cast<int>(std::floor(v));
-    if (cx < -r || cy < -r || cx >= buf.width_px + r || cy >= buf.height_px + r) continue;
-    const float z = static_cast<float>(pc.z());
-    for (int dy = -r; dy <= r; ++dy) {
-      const int y = cy + dy;
-      if (y < 0 || y >= buf.height_px) continue;
-      for (int dx = -r; dx <= r; ++dx) {
-        const int x = cx + dx;
-        if (x < 0 || x >= buf.width_px || dx * dx + dy * dy > r2) continue;
-        const std::size_t k = std::size_t(y) * buf.width_px + x;
-        // Ties go to the lower index so the picture does not depend on anything but the data.
-        if (z < buf.depth_mm[k]) {
-          buf.depth_mm[k] = z;
-          buf.point[k] = static_cast<std::int32_t>(i);
+  // Blocks of points at once; each pixel keeps the smallest word splatted there (an atomic minimum: a plain load
+  // first, since most splats land behind what a pixel already holds).
+  parallel_blocks(points_cad.size(), 1 << 15, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!keep.empty() && !keep[i]) continue;
+      const Eigen::Vector3d pc = rot * points_cad[i].cast<double>() + tr;
+      double u, v;
+      if (pc.z() <= 1e-3 || !projection.project(pc, u, v)) continue;
+      const int cx = static_cast<int>(std::floor(u)), cy = static_cast<int>(std::floor(v));
+      if (cx < -r || cy < -r || cx >= buf.width_px + r || cy >= buf.height_px + r) continue;
+      const std::uint64_t word = SplatBuffer::pack(static_cast<float>(pc.z()), static_cast<std::uint32_t>(i));
+      for (int dy = -r; dy <= r; ++dy) {
+        const int y = cy + dy;
+        if (y < 0 || y >= buf.height_px) continue;
+        for (int dx = -r; dx <= r; ++dx) {
+          const int x = cx + dx;
+          if (x < 0 || x >= buf.width_px || dx * dx + dy * dy > r2) continue;
+          std::atomic_ref<std::uint64_t> pixel(buf.key[std::size_t(y) * buf.width_px + x]);
+          std::uint64_t held = pixel.load(std::memory_order_relaxed);
+          while (word < held && !pixel.compare_exchange_weak(held, word, std::memory_order_relaxed)) {
+          }
         }
       }
     }
-  }
+  });
   return buf;
 }
 
 bool depth_range(const SplatBuffer& buf, double& near_mm, double& far_mm) {
   std::vector<float> d;
-  d.reserve(buf.depth_mm.size() / 4);
-  for (float z : buf.depth_mm)
-    if (std::isfinite(z)) d.push_back(z);
+  d.reserve(buf.size() / 4);
+  for (std::size_t k = 0; k < buf.size(); ++k)
+    if (buf.key[k] != SplatBuffer::kEmpty) d.push_back(buf.depth_mm(k));
   if (d.empty()) return false;
   const std::size_t lo = d.size() / 50, hi = d.size() - 1 - d.size() / 50;
   std::nth_element(d.begin(), d.begin() + lo, d.end());
@@ -67,19 +69,19 @@ std::vector<float> eye_dome_factor(const SplatBuffer& buf, double strength) {
   // Eye-dome lighting (Boucheny 2009): each pixel compares its log-depth with neighbours two pixels away;
   // being behind them (a depth edge) darkens it. Only covered neighbours count, so sparse splats stay light.
   const int w = buf.width_px, h = buf.height_px;
-  std::vector<float> f(buf.depth_mm.size(), 1.0f);
+  std::vector<float> f(buf.size(), 1.0f);
   static const int off[8][2] = {{2, 0}, {-2, 0}, {0, 2}, {0, -2}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
   parallel_for_each_index(std::size_t(std::max(h, 0)), [&](std::size_t row) {  // rows at once: each pixel its own
     const int y = static_cast<int>(row);
     for (int x = 0; x < w; ++x) {
-      const float z = buf.depth_mm[std::size_t(y) * w + x];
+      const float z = buf.depth_mm(std::size_t(y) * w + x);
       if (!std::isfinite(z)) continue;
       const double lz = std::log2(double(z));
       double sum = 0.0;
       for (const auto& o : off) {
         const int xx = x + o[0], yy = y + o[1];
         if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-        const float zn = buf.depth_mm[std::size_t(yy) * w + xx];
+        const float zn = buf.depth_mm(std::size_t(yy) * w + xx);
         if (!std::isfinite(zn)) continue;
         sum += std::max(0.0, lz - std::log2(double(zn)));
       }

@@ -2,6 +2,7 @@
 // Small raster helpers for the report's pictures (internal to the report stage): a depth-tested point splat
 // and 2D lines and rings. No fonts: captions live in the HTML.
 #include <Eigen/Core>
+#include <bit>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -13,11 +14,21 @@
 
 namespace ewis::report_detail {
 
-// Per pixel: the depth (camera z, mm) and the index of the nearest point splatted there (-1: none).
+// Per pixel: the depth (camera z, mm) and the index of the nearest point splatted there, in one word: the
+// depth's float bits (positive, so ordered as the depths) above the index. The smallest word is the nearest
+// point, the lowest index among equally near ones, whatever order the points come in: threads splat at once
+// with an atomic minimum and the picture stays the same.
 struct SplatBuffer {
+  static constexpr std::uint64_t kEmpty = (std::uint64_t{0x7f800000} << 32) | 0xffffffffu;  // depth +inf, point -1
   int width_px = 0, height_px = 0;
-  std::vector<float> depth_mm;
-  std::vector<std::int32_t> point;
+  std::vector<std::uint64_t> key;
+
+  static std::uint64_t pack(float depth_mm, std::uint32_t point) {
+    return (std::uint64_t{std::bit_cast<std::uint32_t>(depth_mm)} << 32) | point;
+  }
+  std::size_t size() const { return key.size(); }
+  float depth_mm(std::size_t k) const { return std::bit_cast<float>(static_cast<std::uint32_t>(key[k] >> 32)); }
+  std::int32_t point(std::size_t k) const { return static_cast<std::int32_t>(static_cast<std::uint32_t>(key[k])); }
 };
 
 // Splats points[i] for every i with keep(i) (all when keep is empty) as discs of radius_px pixels.

@@ -23,10 +23,10 @@ Image shade_splat(const InspectionResult& r, const PointLabels& labels, const Sp
     const int y = static_cast<int>(row);
     for (int x = 0; x < buf.width_px; ++x) {
       const std::size_t k = std::size_t(y) * buf.width_px + x;
-      const std::int32_t i = buf.point[k];
+      const std::int32_t i = buf.point(k);
       if (i < 0) continue;
       Rgb c;
-      const double t = std::clamp((buf.depth_mm[k] - near_mm) / (far_mm - near_mm), 0.0, 1.0);
+      const double t = std::clamp((buf.depth_mm(k) - near_mm) / (far_mm - near_mm), 0.0, 1.0);
       switch (labels.kind[i]) {
         case PointKind::Cable: c = cable_color(std::size_t(labels.cable[i])); break;
         case PointKind::Interference: c = interference_color(labels.foreign[i] != 0); break;

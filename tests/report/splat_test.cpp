@@ -1,0 +1,73 @@
+// The depth-tested splat of the report's pictures (src/report/draw.hpp) against a brute-force reference: each
+// pixel holds the nearest point whose disc covers it, the lowest index among equally near ones, for any number
+// of threads (the points are splatted in parallel blocks with an atomic minimum).
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <random>
+
+#include "draw.hpp"
+
+using namespace ewis;
+using namespace ewis::report_detail;
+
+namespace {
+
+// One pixel's answer the slow way: every point, its disc, the nearest and then the lowest index.
+std::uint64_t reference_pixel(const std::vector<Eigen::Vector3f>& pts, const Camera& cam, int x, int y, int r) {
+  std::uint64_t best = SplatBuffer::kEmpty;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const Eigen::Vector3d p = pts[i].cast<double>();  // camera at the origin, looking along +z
+    double u, v;
+    if (p.z() <= 1e-3 || !cam.project(p, u, v)) continue;
+    const int dx = x - static_cast<int>(std::floor(u)), dy = y - static_cast<int>(std::floor(v));
+    if (std::abs(dx) > r || std::abs(dy) > r || dx * dx + dy * dy > r * r + r) continue;
+    best = std::min(best, SplatBuffer::pack(static_cast<float>(p.z()), static_cast<std::uint32_t>(i)));
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST(Splat, EachPixelHoldsTheNearestPointAndTheLowestIndexOnATie) {
+  Camera cam;
+  cam.width_px = 32, cam.height_px = 24, cam.hfov_deg = 40.0;
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> lateral(-190.0f, 190.0f), depth(500.0f, 520.0f);
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 8000; ++i) {
+    // Depths on a 1 mm grid: many points equally near at one pixel, so the tie rule decides.
+    const float z = std::round(depth(rng));
+    pts.emplace_back(lateral(rng) * z / 500.0f, lateral(rng) * 0.75f * z / 500.0f, z);
+  }
+  pts.emplace_back(0.0f, 0.0f, -5.0f);  // behind the camera: nowhere
+  for (int r : {0, 1, 2}) {
+    SplatBuffer first;
+    for (int threads : {1, 2, 4}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const SplatBuffer buf = splat_points(pts, {}, cam, Pose::Identity(), r);
+      ASSERT_EQ(buf.size(), std::size_t(cam.width_px * cam.height_px));
+      if (threads == 1) {
+        first = buf;
+        std::size_t covered = 0;
+        for (int y = 0; y < cam.height_px; ++y)
+          for (int x = 0; x < cam.width_px; ++x) {
+            const std::size_t k = std::size_t(y) * cam.width_px + x;
+            ASSERT_EQ(buf.key[k], reference_pixel(pts, cam, x, y, r)) << "pixel " << x << "," << y << " r " << r;
+            if (buf.point(k) < 0) continue;
+            ++covered;
+            EXPECT_EQ(buf.depth_mm(k), pts[std::size_t(buf.point(k))].z());
+          }
+        EXPECT_GT(covered, buf.size() * 9 / 10) << "r " << r;  // ~10 points a pixel across the frame
+      } else {
+        EXPECT_EQ(buf.key, first.key) << threads << " threads, r " << r;
+      }
+    }
+  }
+  // Points left out by `keep` are nowhere; an empty pixel reads as no point at infinite depth.
+  const std::vector<std::uint8_t> none(pts.size(), 0);
+  const SplatBuffer empty = splat_points(pts, none, cam, Pose::Identity(), 1);
+  EXPECT_EQ(empty.point(0), -1);
+  EXPECT_TRUE(std::isinf(empty.depth_mm(0)));
+  EXPECT_TRUE(std::all_of(empty.key.begin(), empty.key.end(), [](std::uint64_t w) { return w == SplatBuffer::kEmpty; }));
+}
