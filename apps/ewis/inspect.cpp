@@ -6,12 +6,10 @@
 
 #include "common.hpp"
 #include "ewis/report/report_html.hpp"
+#include "ewis/report/run_inspection.hpp"
 #include "ewis/core/error.hpp"
 #include "ewis/inspect/pipeline.hpp"
 #include "ewis/io/cloud_io.hpp"
-#include "ewis/io/plan_file.hpp"
-#include "ewis/io/pose_file.hpp"
-#include "ewis/scene/scene.hpp"
 
 namespace ewis::cli {
 
@@ -36,14 +34,14 @@ Command add_inspect(CLI::App& root, CommonOptions& common) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
     // Everything is read and checked before anything is written (no partial output on bad input).
-    const LengthUnit unit = parse_length_unit(opt->units);
-    const InspectionPlan plan = read_plan(opt->plan);
-    const Scene scene = load_scene(opt->cad);
-    check_plan_against_scene(plan, scene, opt->plan);
-    CloudFile scan = read_cloud(opt->scan, unit);
-    std::optional<Pose> pose;
-    if (!opt->pose.empty()) pose = read_pose(opt->pose);
-    if (scan.cloud.empty()) throw InputError(opt->scan, "no finite points");
+    InspectionInputs inputs;
+    inputs.cad = opt->cad, inputs.plan = opt->plan, inputs.scan = opt->scan, inputs.pose = opt->pose;
+    inputs.scan_unit = parse_length_unit(opt->units);
+    LoadedInputs loaded = load_inspection_inputs(inputs);
+    const InspectionPlan& plan = loaded.plan;
+    const Scene& scene = loaded.scene;
+    CloudFile& scan = loaded.scan;
+    const std::optional<Pose>& pose = loaded.pose;
     check_scan_units(scan.cloud.points, opt->scan, opt->units);
     const double load_s = std::chrono::duration<double>(clock::now() - t0).count();
     log(common, "loaded " + std::to_string(scan.cloud.size()) + " scan points, " +

@@ -2,7 +2,10 @@
 // inspect, then write report.json, report.html and the coloured PLY files.
 #include "ewis/report/run_inspection.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <chrono>
+#include <exception>
 
 #include "ewis/core/error.hpp"
 #include "ewis/io/plan_file.hpp"
@@ -11,23 +14,46 @@
 
 namespace ewis {
 
+LoadedInputs load_inspection_inputs(const InspectionInputs& in) {
+  LoadedInputs out;
+  out.plan = read_plan(in.plan);
+  std::exception_ptr scene_error, scan_error;
+  tbb::parallel_invoke(
+      [&] {
+        try {
+          out.scene = load_scene(in.cad);
+        } catch (...) {
+          scene_error = std::current_exception();
+        }
+      },
+      [&] {
+        try {
+          out.scan = read_cloud(in.scan, in.scan_unit);
+        } catch (...) {
+          scan_error = std::current_exception();
+        }
+      });
+  if (scene_error) std::rethrow_exception(scene_error);
+  check_plan_against_scene(out.plan, out.scene, in.plan);
+  if (scan_error) std::rethrow_exception(scan_error);
+  if (!in.pose.empty()) out.pose = read_pose(in.pose);
+  if (out.scan.cloud.empty()) throw InputError(in.scan, "no finite points");
+  return out;
+}
+
 InspectionRun run_inspection(const InspectionInputs& in, const std::string& out_dir, const RunInspectionParams& params,
                              const ProgressFn& progress) {
   using clock = std::chrono::steady_clock;
   const auto seconds = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
   InspectionRun run;
   const auto t0 = clock::now();
-  run.plan = read_plan(in.plan);
-  const Scene scene = load_scene(in.cad);
-  check_plan_against_scene(run.plan, scene, in.plan);
-  CloudFile scan = read_cloud(in.scan, in.scan_unit);
-  std::optional<Pose> pose;
-  if (!in.pose.empty()) pose = read_pose(in.pose);
-  if (scan.cloud.empty()) throw InputError(in.scan, "no finite points");
+  LoadedInputs loaded = load_inspection_inputs(in);
+  run.plan = std::move(loaded.plan);
+  const Scene& scene = loaded.scene;
   const auto t1 = clock::now();
   run.load_seconds = seconds(t0, t1);
 
-  run.result = inspect(scene, run.plan, std::move(scan.cloud), pose, params.inspect, progress);
+  run.result = inspect(scene, run.plan, std::move(loaded.scan.cloud), loaded.pose, params.inspect, progress);
   run.report_json = report_to_json(run.result, run.plan);
   const auto t2 = clock::now();
   run.inspect_seconds = seconds(t1, t2);

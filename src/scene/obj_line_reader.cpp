@@ -39,6 +39,20 @@ bool ObjLineReader::ensure(std::size_t k) {
 }
 
 bool ObjLineReader::next(std::string_view& line) {
+  // Most lines: the whole line and its end are in the buffer already, and no '\' in it (no continuation).
+  {
+    const char* const b = buf_.data() + pos_;
+    const char* const e = buf_.data() + end_;
+    const char* p = b;
+    while (p < e && !line_end(*p) && *p != '\\') ++p;
+    if (p < e && line_end(*p)) {
+      line_ = next_line_;
+      line = std::string_view(b, std::size_t(p - b));
+      if (*p == '\n') ++next_line_;
+      pos_ += std::size_t(p - b) + 1;
+      return true;
+    }
+  }
   if (!ensure(0)) return false;
   line_ = next_line_;
   bool joined = false;

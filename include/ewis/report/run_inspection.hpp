@@ -9,6 +9,7 @@
 #include "ewis/inspect/pipeline.hpp"
 #include "ewis/io/cloud_io.hpp"
 #include "ewis/report/report_html.hpp"
+#include "ewis/scene/scene.hpp"
 
 namespace ewis {
 
@@ -17,6 +18,19 @@ struct InspectionInputs {
   std::string pose;                     // empty: no initial pose (global registration)
   LengthUnit scan_unit = LengthUnit::Millimetre;
 };
+
+// The inputs read and checked, ready for inspect().
+struct LoadedInputs {
+  InspectionPlan plan;
+  Scene scene;
+  CloudFile scan;
+  std::optional<Pose> pose;
+};
+
+// Reads the plan, then the CAD and the scan at once (each a file parse of its own, on two threads), then the pose.
+// Errors (InputError) come as a one-at-a-time read reports them: the plan's, the CAD's, the plan against the CAD,
+// the scan's, the pose's, a scan without finite points.
+LoadedInputs load_inspection_inputs(const InspectionInputs& inputs);
 
 struct RunInspectionParams {
   InspectParams inspect;
