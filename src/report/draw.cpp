@@ -71,23 +71,32 @@ std::vector<float> eye_dome_factor(const SplatBuffer& buf, double strength) {
   const int w = buf.width_px, h = buf.height_px;
   std::vector<float> f(buf.size(), 1.0f);
   static const int off[8][2] = {{2, 0}, {-2, 0}, {0, 2}, {0, -2}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
-  parallel_for_each_index(std::size_t(std::max(h, 0)), [&](std::size_t row) {  // rows at once: each pixel its own
-    const int y = static_cast<int>(row);
-    for (int x = 0; x < w; ++x) {
-      const float z = buf.depth_mm(std::size_t(y) * w + x);
-      if (!std::isfinite(z)) continue;
-      const double lz = std::log2(double(z));
-      double sum = 0.0;
-      for (const auto& o : off) {
-        const int xx = x + o[0], yy = y + o[1];
-        if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
-        const float zn = buf.depth_mm(std::size_t(yy) * w + xx);
-        if (!std::isfinite(zn)) continue;
-        sum += std::max(0.0, lz - std::log2(double(zn)));
+  constexpr int kRows = 16;  // rows per task; each task takes the log-depths of its rows and two more each side once
+  const int tasks = (std::max(h, 0) + kRows - 1) / kRows;
+  parallel_for_each_index(std::size_t(tasks), [&](std::size_t task) {  // each pixel its own
+    const int y0 = static_cast<int>(task) * kRows, y1 = std::min(h, y0 + kRows);
+    const int l0 = std::max(0, y0 - 2), l1 = std::min(h, y1 + 2);
+    std::vector<double> log_depth(std::size_t(l1 - l0) * w);  // NaN: no point there
+    for (int y = l0; y < l1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float z = buf.depth_mm(std::size_t(y) * w + x);
+        log_depth[std::size_t(y - l0) * w + x] = std::isfinite(z) ? std::log2(double(z)) : std::nan("");
       }
-      f[std::size_t(y) * w + x] = static_cast<float>(std::exp(-strength * sum / 8.0));
-    }
-  }, 16);
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double lz = log_depth[std::size_t(y - l0) * w + x];
+        if (std::isnan(lz)) continue;
+        double sum = 0.0;
+        for (const auto& o : off) {
+          const int xx = x + o[0], yy = y + o[1];
+          if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+          const double ln = log_depth[std::size_t(yy - l0) * w + xx];
+          if (std::isnan(ln)) continue;
+          sum += std::max(0.0, lz - ln);
+        }
+        f[std::size_t(y) * w + x] = static_cast<float>(std::exp(-strength * sum / 8.0));
+      }
+  }, 1);
   return f;
 }
 
