@@ -81,12 +81,38 @@ double icp_kernel_scale_mm(const IcpParams& params, double max_distance_mm) {
   return std::max(params.kernel_noise_factor * params.noise_mm, max_distance_mm / params.kernel_distance_div);
 }
 
-RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& source, const Cloud& target,
-                                         const KdTree& target_tree, const Pose& source_to_target,
-                                         double inlier_distance_mm,
-                                         const std::vector<std::uint32_t>& source_indices) {
-  check_inputs(source, target, target_tree);
-  const std::vector<std::uint32_t> idx = source_indices.empty() ? all_indices(source.size()) : source_indices;
+namespace {
+
+// The correspondences of the source points, from the memory when there is one (the same answers).
+class Correspondences {
+ public:
+  Correspondences(const KdTree& tree, std::size_t points, IcpMemory* memory) : tree_(tree), memory_(memory) {
+    if (!memory_) return;
+    if (memory_->tree != &tree || memory_->hint.size() != points || !memory_->near) {
+      memory_->tree = &tree;
+      memory_->hint.assign(points, UINT32_MAX);
+      memory_->near = std::make_unique<MovingNearest>(tree, points);
+    }
+  }
+  // Source point `id` now at `p`; `moving`: from its nearest target points of last time (fine stages: small
+  // steps), else a search from its last correspondence.
+  Neighbor nearest(std::uint32_t id, const Eigen::Vector3f& p, float reach, bool moving) const {
+    if (!memory_) return tree_.nearest(p, reach, UINT32_MAX);
+    std::uint32_t& h = memory_->hint[id];
+    const Neighbor nb = moving ? memory_->near->nearest(id, p, reach, h) : tree_.nearest(p, reach, h);
+    if (nb.index != UINT32_MAX) h = nb.index;
+    return nb;
+  }
+
+ private:
+  const KdTree& tree_;
+  IcpMemory* memory_;
+};
+
+RegistrationResult evaluate(const std::vector<Eigen::Vector3f>& source, const Cloud& target, const KdTree& target_tree,
+                            const Pose& source_to_target, double inlier_distance_mm,
+                            const std::vector<std::uint32_t>& idx, IcpMemory* memory) {
+  const Correspondences corr(target_tree, source.size(), memory);
   const double max_sq = inlier_distance_mm * inlier_distance_mm;
   const float reach = search_bound_mm(inlier_distance_mm);
   const Eigen::Matrix3d R = source_to_target.linear();
@@ -97,7 +123,7 @@ RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& sou
         Cost c;
         for (std::size_t i = b; i < e; ++i) {
           const Eigen::Vector3d p = R * source[idx[i]].cast<double>() + t;
-          const Neighbor nb = target_tree.nearest(p.cast<float>(), reach, UINT32_MAX);
+          const Neighbor nb = corr.nearest(idx[i], p.cast<float>(), reach, true);
           if (nb.index == UINT32_MAX) continue;
           const Eigen::Vector3d q = target.points[nb.index].cast<double>();
           if ((p - q).squaredNorm() > max_sq) continue;
@@ -121,13 +147,24 @@ RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& sou
   return res;
 }
 
+}  // namespace
+
+RegistrationResult evaluate_registration(const std::vector<Eigen::Vector3f>& source, const Cloud& target,
+                                         const KdTree& target_tree, const Pose& source_to_target,
+                                         double inlier_distance_mm,
+                                         const std::vector<std::uint32_t>& source_indices) {
+  check_inputs(source, target, target_tree);
+  const std::vector<std::uint32_t> idx = source_indices.empty() ? all_indices(source.size()) : source_indices;
+  return evaluate(source, target, target_tree, source_to_target, inlier_distance_mm, idx, nullptr);
+}
+
 namespace {
 
 // The ICP loop proper; `target`/`target_tree` are the (possibly visibility-culled) correspondence candidates.
 Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, const KdTree& target_tree,
               const Pose& initial_source_to_target, const IcpParams& params,
               const std::vector<std::uint32_t>& all, const ProgressFn& progress, int& total_iterations,
-              bool& stage_converged) {
+              bool& stage_converged, IcpMemory& memory) {
   const std::vector<double> schedule = distance_schedule(params);
   const double final_d = schedule.back();
   const std::vector<std::uint32_t> coarse = strided(all, params.coarse_max_points);
@@ -136,8 +173,9 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
   total_iterations = 0;
   stage_converged = false;
   std::vector<Corr> corr;
-  std::vector<std::uint32_t> hint(source.size(), UINT32_MAX);  // per source point: its last correspondence
-  MovingNearest near(target_tree, source.size());  // for the fine stages (the coarse ones move too far per step)
+  // Per source point its last correspondence, and its nearest target points for the fine stages (the coarse ones
+  // move too far per step).
+  const Correspondences nearest(target_tree, source.size(), &memory);
 
   for (std::size_t s = 0; s < schedule.size(); ++s) {
     const double d = schedule[s];
@@ -171,12 +209,9 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
               Corr& k = corr[i];
               const Eigen::Vector3d p = R * source[idx[i]].cast<double>() + t;
               // From the last iteration's answer: after a small step it is at or near the new one.
-              std::uint32_t& h = hint[idx[i]];
-              const Neighbor nb = is_coarse ? target_tree.nearest(p.cast<float>(), reach, h)
-                                            : near.nearest(idx[i], p.cast<float>(), reach, h);
+              const Neighbor nb = nearest.nearest(idx[i], p.cast<float>(), reach, !is_coarse);
               k.valid = false;
               if (nb.index == UINT32_MAX) continue;
-              h = nb.index;
               const Eigen::Vector3d q = target.points[nb.index].cast<double>();
               if ((p - q).squaredNorm() > max_sq) continue;
               k.n = target.normals[nb.index].cast<double>();
@@ -272,7 +307,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
 RegistrationResult align_point_to_plane(const std::vector<Eigen::Vector3f>& source, const Cloud& target,
                                         const KdTree& target_tree, const Pose& initial_source_to_target,
                                         const IcpParams& params, const std::vector<std::uint32_t>& source_indices,
-                                        const ProgressFn& progress) {
+                                        const ProgressFn& progress, IcpMemory* memory) {
   check_inputs(source, target, target_tree);
   const std::vector<std::uint32_t> all = source_indices.empty() ? all_indices(source.size()) : source_indices;
   const std::vector<std::uint32_t> used = strided(all, params.max_points);
@@ -290,12 +325,17 @@ RegistrationResult align_point_to_plane(const std::vector<Eigen::Vector3f>& sour
     if (visible.size() < 3) throw ProcessingError("registration: no CAD surface faces the sensor at the initial pose");
     const Cloud seen = select(target, visible);
     const KdTree seen_tree(seen.points);
-    T = icp_loop(source, seen, seen_tree, initial_source_to_target, params, used, progress, iterations, converged);
+    IcpMemory on_seen;  // of another tree than the caller's
+    T = icp_loop(source, seen, seen_tree, initial_source_to_target, params, used, progress, iterations, converged,
+                 on_seen);
   } else {
-    T = icp_loop(source, target, target_tree, initial_source_to_target, params, used, progress, iterations, converged);
+    IcpMemory own;
+    T = icp_loop(source, target, target_tree, initial_source_to_target, params, used, progress, iterations, converged,
+                 memory ? *memory : own);
   }
+  // Fitness over every source point at the final pose: the last iteration's neighbours answer most of them.
   RegistrationResult res =
-      evaluate_registration(source, target, target_tree, T, distance_schedule(params).back(), all);
+      evaluate(source, target, target_tree, T, distance_schedule(params).back(), all, memory);
   res.iterations = iterations;
   res.converged = converged;
   return res;

@@ -116,13 +116,14 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   IcpParams coarse_icp = icp;
   coarse_icp.final_max_distance_mm = std::max(3.0 * final_d, 4.0);
   coarse_icp.coarse_distance_mm = 4.0 * final_d;
+  IcpMemory memory;  // the fine pass goes on from the coarse pass's correspondences
   const RegistrationResult coarse =
-      align_point_to_plane(scan, view.cloud, *view.tree, start, coarse_icp, keep, progress);
+      align_point_to_plane(scan, view.cloud, *view.tree, start, coarse_icp, keep, progress, &memory);
   keep = points_away_from_cables(scan, coarse.source_to_target, target, 0.0);
   if (keep.size() < 6) return run;
   IcpParams fine = icp;
   fine.initial_max_distance_mm = coarse_icp.final_max_distance_mm;
-  run.reg = align_point_to_plane(scan, view.cloud, *view.tree, coarse.source_to_target, fine, keep);
+  run.reg = align_point_to_plane(scan, view.cloud, *view.tree, coarse.source_to_target, fine, keep, {}, &memory);
   run.reg.iterations += coarse.iterations;
   run.excluded = scan.size() - keep.size();
   if (bins) run.free_space = count_in_front(*bins, view.cloud, run.reg.source_to_target, params.in_front_margin_mm);

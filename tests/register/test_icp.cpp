@@ -73,6 +73,37 @@ TEST(Icp, DeterministicForAnyThreadCount) {
   EXPECT_EQ(r1.inliers, r2.inliers);
 }
 
+// Two passes (coarse, then fine from its pose) give the same poses, iterations and fitness whether the second
+// goes on from the first's correspondences (IcpMemory) or starts afresh; a memory of another tree is dropped.
+TEST(Icp, MemoryOfThePassBeforeChangesNoAnswer) {
+  const auto& f = fixture();
+  const test::SimScan sim = test::simulate_scan(make_scene(), 5);
+  const Pose init = off_at_scene(sim.camera_to_cad, 5, 3.0, 10.0);
+  IcpParams coarse;
+  coarse.expected_error_mm = 15.0;
+  coarse.final_max_distance_mm = 3.0;
+  IcpParams fine;
+  fine.initial_max_distance_mm = 3.0;
+  fine.final_max_distance_mm = 1.0;
+  const RegistrationResult a1 = align_point_to_plane(sim.scan.points, f.target, *f.tree, init, coarse);
+  const RegistrationResult a2 = align_point_to_plane(sim.scan.points, f.target, *f.tree, a1.source_to_target, fine);
+  IcpMemory memory;
+  const Cloud other_target = test::sample_scene(f.scene, 2.0, 5);
+  const KdTree other_tree(other_target.points);
+  align_point_to_plane(sim.scan.points, other_target, other_tree, init, coarse, {}, {}, &memory);  // learnt elsewhere
+  const RegistrationResult b1 = align_point_to_plane(sim.scan.points, f.target, *f.tree, init, coarse, {}, {}, &memory);
+  EXPECT_EQ(memory.tree, f.tree.get());
+  const RegistrationResult b2 =
+      align_point_to_plane(sim.scan.points, f.target, *f.tree, b1.source_to_target, fine, {}, {}, &memory);
+  for (const auto& [a, b] : {std::pair{a1, b1}, std::pair{a2, b2}}) {
+    EXPECT_TRUE(a.source_to_target.matrix() == b.source_to_target.matrix());
+    EXPECT_EQ(a.iterations, b.iterations);
+    EXPECT_EQ(a.inliers, b.inliers);
+    EXPECT_EQ(a.rmse_mm, b.rmse_mm);
+  }
+  EXPECT_LT(pose_error(b2.source_to_target, sim.camera_to_cad).mm, 0.3);
+}
+
 TEST(Icp, EvaluateReportsFitnessAtTruth) {
   const auto& f = fixture();
   const test::SimScan sim = test::simulate_scan(make_scene(), 3, 0.2, 0.0);

@@ -11,7 +11,10 @@
 #include "ewis/core/cloud.hpp"
 #include "ewis/core/pose.hpp"
 #include "ewis/core/progress.hpp"
+#include <memory>
+
 #include "ewis/search/kdtree.hpp"
+#include "ewis/search/moving_nearest.hpp"
 
 namespace ewis {
 
@@ -63,6 +66,15 @@ struct RegistrationResult {
   bool converged = false;        // the final stage met the update-size test
 };
 
+// What an alignment learnt about each source point's correspondence (its last target point, the target points
+// nearest to where it last was), handed on to the next alignment of the same source onto the same target tree
+// (a refinement's coarse and fine passes). Only the time depends on it, never the answer.
+struct IcpMemory {
+  const KdTree* tree = nullptr;  // what it was learnt on (another tree: it starts afresh)
+  std::vector<std::uint32_t> hint;
+  std::unique_ptr<MovingNearest> near;
+};
+
 // Aligns `source` onto `target` (points with unit normals; `target_tree` is its k-d tree), starting at
 // `initial_source_to_target`. `source_indices` selects the source points to use (empty: all). Deterministic for
 // any thread count. Throws InputError when the target has no normals or the two clouds are empty.
@@ -70,7 +82,7 @@ RegistrationResult align_point_to_plane(const std::vector<Eigen::Vector3f>& sour
                                         const KdTree& target_tree, const Pose& initial_source_to_target,
                                         const IcpParams& params = {},
                                         const std::vector<std::uint32_t>& source_indices = {},
-                                        const ProgressFn& progress = {});
+                                        const ProgressFn& progress = {}, IcpMemory* memory = nullptr);
 
 // Fitness/rmse of a pose without moving it: the fraction of source points whose nearest target point is within
 // inlier_distance_mm, and the RMS point-to-plane residual of those. Used to validate and compare poses.
