@@ -48,9 +48,21 @@ RegistrationResult refine_on_surface(const std::vector<Eigen::Vector3f>& source,
         n, kGrain, Normal6{},
         [&](std::size_t b, std::size_t e) {
           Normal6 acc;
+          // Runs of consecutive points (neighbours in a scan in leaf or raster order): the surface index is walked
+          // once per run, each point getting its own closest point.
+          constexpr std::size_t kRun = 16;
+          Eigen::Vector3d run[kRun];
+          SurfacePoint found[kRun];
+          std::vector<std::uint32_t> leaves;
           for (std::size_t i = b; i < e; ++i) {
-            const Eigen::Vector3d p = pose * point(i);
-            const SurfacePoint s = surface.closest(p, params.max_distance_mm);
+            const std::size_t j = (i - b) % kRun;
+            if (j == 0) {
+              const std::size_t m = std::min(kRun, e - i);
+              for (std::size_t k = 0; k < m; ++k) run[k] = pose * point(i + k);
+              surface.closest_group(run, m, params.max_distance_mm, found, leaves);
+            }
+            const Eigen::Vector3d& p = run[j];
+            const SurfacePoint& s = found[j];
             if (!s.found()) continue;
             const Eigen::Vector3d d = p - s.point;
             const double r = d.norm();
