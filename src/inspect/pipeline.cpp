@@ -73,15 +73,15 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     progress(stage, f);
   };
   // Runs body(c) for every cable at once (each cable's work is its own, so the results are those of one at a
-  // time), reporting the stage's progress as cables finish.
-  const auto each_cable = [&](std::size_t n, const char* stage, const auto& body) {
+  // time), reporting the stage's progress as cables finish, up to `span` of the stage.
+  const auto each_cable = [&](std::size_t n, const char* stage, double span, const auto& body) {
     std::size_t done = 0;  // under progress_mutex
     report(stage, 0.0);
     parallel_for_each_index(n, [&](std::size_t c) {
       body(c);
       const std::lock_guard<std::mutex> lock(progress_mutex);
       ++done;
-      if (progress) progress(stage, double(done) / double(n));
+      if (progress) progress(stage, span * double(done) / double(n));
     }, 1);
   };
   res.scan_points = scan.size();
@@ -324,7 +324,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     }
     return runs;
   };
-  each_cable(cable_plans.size(), "trace", [&](std::size_t c) {
+  // The first traces are most of the stage; touching cables traced again are the rest.
+  each_cable(cable_plans.size(), "trace", 0.9, [&](std::size_t c) {
     const PlanElement& pe = *cable_plans[c];
     CableInspection& ci = res.cables[c];
     ci.name = pe.name;
@@ -478,7 +479,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   const double hidden_margin = params.hidden_margin_mm;
   // The scene's BVH for every cable: a hit on the cable being checked is passed through.
   return_free_heap_to_os();
-  each_cable(res.cables.size(), "interference", [&](std::size_t c) {
+  each_cable(res.cables.size(), "interference", 1.0, [&](std::size_t c) {
     CableInspection& ci = res.cables[c];
     if (!ci.found) return;
     std::vector<int> ignore = {ci.element};
