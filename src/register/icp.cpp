@@ -86,12 +86,22 @@ namespace {
 // The correspondences of the source points, from the memory when there is one (the same answers).
 class Correspondences {
  public:
-  Correspondences(const KdTree& tree, std::size_t points, IcpMemory* memory) : tree_(tree), memory_(memory) {
+  // `points`: the source's size; `served`: the source points whose nearest target points are kept from now on
+  // (null: those kept so far).
+  Correspondences(const KdTree& tree, IcpMemory* memory, std::size_t points, const std::vector<std::uint32_t>* served)
+      : tree_(tree), memory_(memory) {
     if (!memory_) return;
+    std::vector<std::uint32_t> ids;
+    if (served) {
+      ids = *served;
+      if (!std::is_sorted(ids.begin(), ids.end())) std::sort(ids.begin(), ids.end());
+    }
     if (memory_->tree != &tree || memory_->hint.size() != points || !memory_->near) {
       memory_->tree = &tree;
       memory_->hint.assign(points, UINT32_MAX);
-      memory_->near = std::make_unique<MovingNearest>(tree, points);
+      memory_->near = std::make_unique<MovingNearest>(tree, std::move(ids));
+    } else if (served) {
+      memory_->near->serve(std::move(ids));
     }
   }
   // Source point `id` now at `p`; `moving`: from its nearest target points of last time (fine stages: small
@@ -112,7 +122,7 @@ class Correspondences {
 RegistrationResult evaluate(const std::vector<Eigen::Vector3f>& source, const Cloud& target, const KdTree& target_tree,
                             const Pose& source_to_target, double inlier_distance_mm,
                             const std::vector<std::uint32_t>& idx, IcpMemory* memory) {
-  const Correspondences corr(target_tree, source.size(), memory);
+  const Correspondences corr(target_tree, memory, source.size(), nullptr);
   const double max_sq = inlier_distance_mm * inlier_distance_mm;
   const float reach = search_bound_mm(inlier_distance_mm);
   const Eigen::Matrix3d R = source_to_target.linear();
@@ -175,7 +185,7 @@ Pose icp_loop(const std::vector<Eigen::Vector3f>& source, const Cloud& target, c
   std::vector<Corr> corr;
   // Per source point its last correspondence, and its nearest target points for the fine stages (the coarse ones
   // move too far per step).
-  const Correspondences nearest(target_tree, source.size(), &memory);
+  const Correspondences nearest(target_tree, &memory, source.size(), &all);
 
   for (std::size_t s = 0; s < schedule.size(); ++s) {
     const double d = schedule[s];
@@ -314,6 +324,8 @@ RegistrationResult align_point_to_plane(const std::vector<Eigen::Vector3f>& sour
   int iterations = 0;
   bool converged = false;
   Pose T;
+  IcpMemory own;
+  IcpMemory* learnt = nullptr;  // what the loop learnt on target_tree, when it ran on it
   if (params.use_source_viewpoint) {
     // Only target faces the sensor can see from (about) the initial pose take part: keep points whose normal
     // is at most ~100 deg from the direction to the sensor (grazing walls stay, a plate's far side goes).
@@ -325,17 +337,17 @@ RegistrationResult align_point_to_plane(const std::vector<Eigen::Vector3f>& sour
     if (visible.size() < 3) throw ProcessingError("registration: no CAD surface faces the sensor at the initial pose");
     const Cloud seen = select(target, visible);
     const KdTree seen_tree(seen.points);
-    IcpMemory on_seen;  // of another tree than the caller's
+    IcpMemory on_seen;  // of another tree than target_tree
     T = icp_loop(source, seen, seen_tree, initial_source_to_target, params, used, progress, iterations, converged,
                  on_seen);
   } else {
-    IcpMemory own;
+    learnt = memory ? memory : &own;
     T = icp_loop(source, target, target_tree, initial_source_to_target, params, used, progress, iterations, converged,
-                 memory ? *memory : own);
+                 *learnt);
   }
   // Fitness over every source point at the final pose: the last iteration's neighbours answer most of them.
   RegistrationResult res =
-      evaluate(source, target, target_tree, T, distance_schedule(params).back(), all, memory);
+      evaluate(source, target, target_tree, T, distance_schedule(params).back(), all, learnt);
   res.iterations = iterations;
   res.converged = converged;
   return res;

@@ -1,6 +1,7 @@
 // MovingNearest: per moving point, the k nearest target points around where it last was (see the header).
 #include "ewis/search/moving_nearest.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,12 +13,26 @@ constexpr float kSafetyMm = 1e-3f;
 
 }  // namespace
 
-MovingNearest::MovingNearest(const KdTree& tree, std::size_t points) : tree_(tree), entries_(points) {}
+MovingNearest::MovingNearest(const KdTree& tree, std::vector<std::uint32_t> ids)
+    : tree_(tree), ids_(std::move(ids)), entries_(ids_.size()) {}
 
-Neighbor MovingNearest::nearest(std::size_t id, const Eigen::Vector3f& query, float max_distance_mm,
+void MovingNearest::serve(std::vector<std::uint32_t> ids) {
+  if (ids == ids_) return;
+  std::vector<Entry> entries(ids.size());
+  for (std::size_t k = 0, old = 0; k < ids.size(); ++k) {  // both increasing: one walk
+    while (old < ids_.size() && ids_[old] < ids[k]) ++old;
+    if (old < ids_.size() && ids_[old] == ids[k]) entries[k] = entries_[old];
+  }
+  ids_ = std::move(ids);
+  entries_ = std::move(entries);
+}
+
+Neighbor MovingNearest::nearest(std::uint32_t id, const Eigen::Vector3f& query, float max_distance_mm,
                                 std::uint32_t hint) {
   constexpr Neighbor kNone{std::numeric_limits<std::uint32_t>::max(), std::numeric_limits<float>::infinity()};
-  Entry& e = entries_[id];
+  const auto slot = std::lower_bound(ids_.begin(), ids_.end(), id);
+  if (slot == ids_.end() || *slot != id) return tree_.nearest(query, max_distance_mm, hint);
+  Entry& e = entries_[std::size_t(slot - ids_.begin())];
   if (e.radius > 0 && query.allFinite()) {
     const float sure = e.radius - (query - e.at).norm() - kSafetyMm;  // nothing outside the list is this near
     if (sure > 0) {

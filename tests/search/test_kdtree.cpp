@@ -313,7 +313,13 @@ TEST(MovingNearest, EveryAnswerIsTheTreesAnswer) {
   for (const Case& cs : cases) {
     const KdTree tree(cs.pts);
     const std::size_t walkers = 40;
-    MovingNearest moving(tree, walkers);
+    // Lists for the even walkers first, then for every third (the lists of both kept): the others from the tree.
+    std::vector<std::uint32_t> even, thirds;
+    for (std::uint32_t w = 0; w < walkers; ++w) {
+      if (w % 2 == 0) even.push_back(w);
+      if (w % 3 == 0) thirds.push_back(w);
+    }
+    MovingNearest moving(tree, even);
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> start(-40.f, 40.f);
     std::uniform_int_distribution<int> dir(-1, 1);
@@ -321,11 +327,12 @@ TEST(MovingNearest, EveryAnswerIsTheTreesAnswer) {
     for (auto& p : at) p = {std::round(start(rng)), std::round(start(rng)), std::round(start(rng)) * 0.5f};
     std::vector<std::uint32_t> hint(walkers, std::numeric_limits<std::uint32_t>::max());
     for (int step = 0; step < 60; ++step) {
+      if (step == 30) moving.serve(thirds);
       const float reach = step % 3 == 0 ? 1e4f : (step % 3 == 1 ? 3.0f : 0.6f);
       for (std::size_t w = 0; w < walkers; ++w) {
         at[w] += cs.step * Eigen::Vector3f(float(dir(rng)), float(dir(rng)), float(dir(rng)));
         const Neighbor want = tree.nearest(at[w], reach, std::numeric_limits<std::uint32_t>::max());
-        const Neighbor got = moving.nearest(w, at[w], reach, hint[w]);
+        const Neighbor got = moving.nearest(static_cast<std::uint32_t>(w), at[w], reach, hint[w]);
         ASSERT_EQ(got.index, want.index) << "step " << step << " walker " << w << " reach " << reach;
         if (want.index != std::numeric_limits<std::uint32_t>::max()) {
           EXPECT_EQ(got.distance_sq, want.distance_sq);

@@ -14,11 +14,15 @@ namespace ewis {
 
 class MovingNearest {
  public:
-  // `points`: how many moving points (ids 0..points-1). The tree must outlive this.
-  MovingNearest(const KdTree& tree, std::size_t points);
+  // `ids`: the moving points it keeps lists for, increasing (52 bytes each; any other id is answered by the tree
+  // alone). The tree must outlive this.
+  MovingNearest(const KdTree& tree, std::vector<std::uint32_t> ids);
+  // Keeps lists for `ids` (increasing) from now on: those of ids it kept already stay, the others start empty.
+  void serve(std::vector<std::uint32_t> ids);
+  const std::vector<std::uint32_t>& ids() const { return ids_; }
   // As tree.nearest(query, max_distance_mm, hint) for moving point `id` now at `query`. Calls for different ids
   // may run in parallel; calls for one id must not.
-  Neighbor nearest(std::size_t id, const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint);
+  Neighbor nearest(std::uint32_t id, const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint);
 
  private:
   static constexpr std::uint32_t kList = 8;
@@ -29,6 +33,7 @@ class MovingNearest {
     std::uint32_t ids[kList] = {};
   };
   const KdTree& tree_;
+  std::vector<std::uint32_t> ids_;  // increasing; entries_[k] is ids_[k]'s
   std::vector<Entry> entries_;
 };
 
