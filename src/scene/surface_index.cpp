@@ -1,5 +1,7 @@
 #include "ewis/scene/surface_index.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -31,8 +33,26 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
 
 namespace {
 
-// Nodes of the tree build() makes over n triangles: median splits down to leaves of at most 4.
-std::size_t node_count(std::size_t n) { return n <= 4 ? 1 : 1 + node_count(n / 2) + node_count(n - n / 2); }
+// Nodes of the tree build() makes over n triangles: median splits down to leaves of at most 4. The sizes at one
+// depth differ by at most one, so each depth holds at most two (size, how many) pairs.
+std::size_t node_count(std::size_t n) {
+  std::size_t nodes = 0;
+  std::vector<std::pair<std::size_t, std::size_t>> level = {{n, 1}}, next;
+  while (!level.empty()) {
+    next.clear();
+    const auto add = [&](std::size_t size, std::size_t k) {
+      for (auto& [s, c] : next)
+        if (s == size) return void(c += k);
+      next.emplace_back(size, k);
+    };
+    for (const auto& [size, k] : level) {
+      nodes += k;
+      if (size > 4) add(size / 2, k), add(size - size / 2, k);
+    }
+    level.swap(next);
+  }
+  return nodes;
+}
 
 }  // namespace
 
@@ -51,14 +71,14 @@ SurfaceIndex::SurfaceIndex(const Scene& scene, const std::vector<int>& elements)
     const auto& tri = scene.triangles[t];
     centroids[t] = (scene.vertices[tri[0]] + scene.vertices[tri[1]] + scene.vertices[tri[2]]) / 3.0f;
   }
-  nodes_.reserve(node_count(order_.size()));
-  build(0, static_cast<std::uint32_t>(order_.size()), centroids, 0);
+  // Every node's place is known from the triangle counts (depth first, left before right), so the two halves of a
+  // large node are built at once into their own ranges: the same tree as one at a time.
+  nodes_.resize(node_count(order_.size()));
+  build(0, 0, static_cast<std::uint32_t>(order_.size()), centroids, 0);
 }
 
-std::uint32_t SurfaceIndex::build(std::uint32_t first, std::uint32_t count, std::vector<Eigen::Vector3f>& centroids,
-                                  int depth) {
-  const std::uint32_t id = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.push_back({});
+void SurfaceIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t count,
+                         const std::vector<Eigen::Vector3f>& centroids, int depth) {
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
   Eigen::Vector3f clo = lo, chi = hi;
   for (std::uint32_t i = first; i < first + count; ++i) {
@@ -72,10 +92,10 @@ std::uint32_t SurfaceIndex::build(std::uint32_t first, std::uint32_t count, std:
   }
   nodes_[id].lo = lo;
   nodes_[id].hi = hi;
-  if (count <= 4 || depth > 60) {
+  if (count <= 4 || depth > 60) {  // (a leaf above the last level leaves its range's other slots unused)
     nodes_[id].first = first;
     nodes_[id].count = count;
-    return id;
+    return;
   }
   int axis;
   (chi - clo).maxCoeff(&axis);
@@ -86,12 +106,18 @@ std::uint32_t SurfaceIndex::build(std::uint32_t first, std::uint32_t count, std:
                      const float cx = centroids[x][axis], cy = centroids[y][axis];
                      return cx < cy || (cx == cy && x < y);
                    });
-  const std::uint32_t l = build(first, mid - first, centroids, depth + 1);
-  const std::uint32_t r = build(mid, first + count - mid, centroids, depth + 1);
+  const std::uint32_t l = id + 1, r = l + static_cast<std::uint32_t>(node_count(mid - first));
   nodes_[id].left = l;
   nodes_[id].right = r;
   nodes_[id].count = 0;
-  return id;
+  const auto left = [&] { build(l, first, mid - first, centroids, depth + 1); };
+  const auto right = [&] { build(r, mid, first + count - mid, centroids, depth + 1); };
+  if (count >= 8192) {
+    tbb::parallel_invoke(left, right);
+  } else {
+    left();
+    right();
+  }
 }
 
 namespace {

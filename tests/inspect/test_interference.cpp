@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -168,6 +169,47 @@ TEST(SurfaceIndex, AGroupOfPointsGetsEachPointsOwnAnswer) {
   const Eigen::Vector3d inf(std::numeric_limits<double>::infinity(), 0, 0);
   idx.closest_group(&inf, 1, 1.0, one.data(), leaves);
   EXPECT_FALSE(one[0].found());
+}
+
+// A mesh large enough that the index builds its halves at once (over 8192 triangles): every answer is the brute
+// force's over all triangles (least distance, then least triangle index), and the same for 1 and 2 threads.
+TEST(SurfaceIndex, ALargeMeshBuiltInParallelAnswersAsBruteForce) {
+  Scene s;
+  add_mesh(s, "ball", make_sphere({0, 0, 0}, 40.0, 160, 80));  // ~25 k triangles
+  add_mesh(s, "box", make_box({45, -5, -5}, {55, 5, 5}));
+  ASSERT_GT(s.triangles.size(), 20000u);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> coord(-60.0, 60.0);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 150; ++i) pts.emplace_back(coord(rng), coord(rng), coord(rng));
+  pts.emplace_back(0, 0, 40.0);  // on a pole: many triangles meet
+  std::vector<SurfacePoint> first;
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const SurfaceIndex idx(s, {0, 1});
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const SurfacePoint got = idx.closest(pts[i]);
+      if (threads == 1) {
+        double best = std::numeric_limits<double>::infinity();
+        std::uint32_t best_t = 0;
+        for (std::uint32_t t = 0; t < s.triangles.size(); ++t) {
+          const auto& tri = s.triangles[t];
+          const Eigen::Vector3d q = closest_point_on_triangle(pts[i], s.vertices[tri[0]].cast<double>(),
+                                                             s.vertices[tri[1]].cast<double>(),
+                                                             s.vertices[tri[2]].cast<double>());
+          const double d2 = (q - pts[i]).squaredNorm();
+          if (d2 < best) best = d2, best_t = t;
+        }
+        ASSERT_TRUE(got.found());
+        EXPECT_EQ(got.distance_mm, std::sqrt(best)) << i;
+        EXPECT_EQ(got.triangle, best_t) << i;
+        first.push_back(got);
+      } else {
+        EXPECT_EQ(got.triangle, first[i].triangle) << i;
+        EXPECT_EQ(got.distance_mm, first[i].distance_mm) << i;
+      }
+    }
+  }
 }
 
 TEST(ChainDistance, SegmentsAndChains) {

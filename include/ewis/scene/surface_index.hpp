@@ -53,7 +53,9 @@ class SurfaceIndex {
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> order_;  // triangle indices
   std::vector<int> elements_;
-  std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Eigen::Vector3f>& centroids, int depth);
+  // Node `id` over triangles [first, first + count) of order_; its subtrees take the ids after it (left first).
+  void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, const std::vector<Eigen::Vector3f>& centroids,
+             int depth);
   // Triangle t against the best so far: the least (squared distance, triangle index) below best_d2 wins.
   void test_triangle(std::uint32_t t, const Eigen::Vector3d& p, double& best_d2, SurfacePoint& best) const;
 };
