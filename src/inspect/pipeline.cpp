@@ -186,17 +186,11 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   parallel_blocks(cloud.size(), 2048, [&](std::size_t b, std::size_t e) {
     // The cloud is in leaf order: a run of consecutive points is a small patch, and the surface index is walked
     // once per run.
-    constexpr std::size_t kRun = 16;
-    Eigen::Vector3d p[kRun];
-    SurfacePoint s[kRun];
-    std::vector<std::uint32_t> leaves;
-    for (std::size_t i = b; i < e; i += kRun) {
-      const std::size_t n = std::min(kRun, e - i);
-      for (std::size_t j = 0; j < n; ++j) p[j] = cloud.points[i + j].cast<double>();
-      rigid_surfaces.closest_group(p, n, params.rigid_surface_mm, s, leaves);
-      for (std::size_t j = 0; j < n; ++j)
-        if (s[j].found()) rigid_label[i + j] = s[j].element;
-    }
+    rigid_surfaces.closest_each(
+        b, e, params.rigid_surface_mm, [&](std::size_t i) { return cloud.points[i].cast<double>(); },
+        [&](std::size_t i, const Eigen::Vector3d&, const SurfacePoint& s) {
+          if (s.found()) rigid_label[i] = s.element;
+        });
   });
   std::vector<std::uint8_t> usable(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) usable[i] = rigid_label[i] < 0 ? 1 : 0;

@@ -50,26 +50,15 @@ RegistrationResult refine_on_surface(const std::vector<Eigen::Vector3f>& source,
           Normal6 acc;
           // Runs of consecutive points (neighbours in a scan in leaf or raster order): the surface index is walked
           // once per run, each point getting its own closest point.
-          constexpr std::size_t kRun = 16;
-          Eigen::Vector3d run[kRun];
-          SurfacePoint found[kRun];
-          std::vector<std::uint32_t> leaves;
-          for (std::size_t i = b; i < e; ++i) {
-            const std::size_t j = (i - b) % kRun;
-            if (j == 0) {
-              const std::size_t m = std::min(kRun, e - i);
-              for (std::size_t k = 0; k < m; ++k) run[k] = pose * point(i + k);
-              surface.closest_group(run, m, params.max_distance_mm, found, leaves);
-            }
-            const Eigen::Vector3d& p = run[j];
-            const SurfacePoint& s = found[j];
-            if (!s.found()) continue;
+          surface.closest_each(b, e, params.max_distance_mm, [&](std::size_t i) { return pose * point(i); },
+                               [&](std::size_t, const Eigen::Vector3d& p, const SurfacePoint& s) {
+            if (!s.found()) return;
             const Eigen::Vector3d d = p - s.point;
             const double r = d.norm();
             ++acc.count;
             acc.squares += r * r;
             acc.cost += 0.5 * c * c * std::log1p((r / c) * (r / c));
-            if (!(r > 1e-9)) continue;  // on the surface: no direction, no pull
+            if (!(r > 1e-9)) return;  // on the surface: no direction, no pull
             const Eigen::Vector3d u = d / r;
             Eigen::Matrix<double, 6, 1> J;
             J.head<3>() = (p - centre).cross(u);
@@ -77,7 +66,7 @@ RegistrationResult refine_on_surface(const std::vector<Eigen::Vector3f>& source,
             const double w = 1.0 / (1.0 + (r / c) * (r / c));
             acc.H.noalias() += w * J * J.transpose();
             acc.g.noalias() += w * r * J;
-          }
+          });
           return acc;
         },
         add);

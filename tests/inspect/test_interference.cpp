@@ -165,6 +165,19 @@ TEST(SurfaceIndex, AGroupOfPointsGetsEachPointsOwnAnswer) {
   }
   EXPECT_GT(found, 1000);
   EXPECT_GT(missed, 1000);
+  // closest_each: the same per point over a range in runs (37 points: two full runs and a short one), in order.
+  std::vector<Eigen::Vector3d> line;
+  for (int i = 0; i < 37; ++i) line.emplace_back(-2.0 + 0.7 * i, 5.0, 10.4);
+  std::size_t next = 3;
+  idx.closest_each(3, line.size(), 1.5, [&](std::size_t i) { return line[i]; },
+                   [&](std::size_t i, const Eigen::Vector3d& p, const SurfacePoint& got) {
+                     EXPECT_EQ(i, next++);
+                     EXPECT_EQ(p, line[i]);
+                     const SurfacePoint want = idx.closest(line[i], 1.5);
+                     EXPECT_EQ(got.found(), want.found()) << i;
+                     EXPECT_EQ(got.triangle, want.triangle) << i;
+                   });
+  EXPECT_EQ(next, line.size());
   std::vector<SurfacePoint> one(1);
   const Eigen::Vector3d inf(std::numeric_limits<double>::infinity(), 0, 0);
   idx.closest_group(&inf, 1, 1.0, one.data(), leaves);

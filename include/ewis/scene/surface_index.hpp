@@ -38,6 +38,23 @@ class SurfaceIndex {
   // max_distance_mm; else point by point). `leaves` is scratch, kept by the caller between calls.
   void closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm, SurfacePoint* out,
                      std::vector<std::uint32_t>& leaves) const;
+  // closest(point_at(i), max_distance_mm) for every i in [begin, end), handed to use(i, point, answer) in order;
+  // runs of 16 consecutive points share one walk of the tree (closest_group), so consecutive points should lie near
+  // one another (a cloud in leaf order).
+  template <class PointAt, class Use>
+  void closest_each(std::size_t begin, std::size_t end, double max_distance_mm, const PointAt& point_at,
+                    const Use& use) const {
+    constexpr std::size_t kRun = 16;
+    Eigen::Vector3d p[kRun];
+    SurfacePoint s[kRun];
+    std::vector<std::uint32_t> leaves;
+    for (std::size_t i = begin; i < end; i += kRun) {
+      const std::size_t n = std::min(kRun, end - i);
+      for (std::size_t j = 0; j < n; ++j) p[j] = point_at(i + j);
+      closest_group(p, n, max_distance_mm, s, leaves);
+      for (std::size_t j = 0; j < n; ++j) use(i + j, p[j], s[j]);
+    }
+  }
   // Least distance from the segment [a, b] to the surface, sampled every step_mm along the segment and refined
   // around the best sample (error far below step for smooth surfaces); infinity when beyond max_distance_mm.
   SurfacePoint closest_to_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double step_mm = 0.25,
