@@ -81,6 +81,7 @@ VisibilitySets visible_samples(const Raycaster& scene_caster, const Camera& came
   sets.seen.assign(views.size(), std::vector<std::uint64_t>(sets.words, 0));
   const double max_incidence = params.measurable ? params.sensor.max_incidence_deg : params.max_incidence_deg;
   const double cos_max = std::cos(max_incidence * M_PI / 180.0);
+  const Camera::Projection projection = camera.projection();
   std::atomic<std::size_t> done{0};
   parallel_for_each_index(
       views.size(),
@@ -96,7 +97,7 @@ VisibilitySets visible_samples(const Raycaster& scene_caster, const Camera& came
           for (std::size_t s = begin; s < samples.element_begin[k + 1]; ++s) {
             const Eigen::Vector3d& p = samples.points[s];
             double u = 0, vv = 0;
-            if (!camera.project(cad_to_camera * p, u, vv) || !camera.inside(u, vv)) continue;
+            if (!projection.project(cad_to_camera * p, u, vv) || !camera.inside(u, vv)) continue;
             Eigen::Vector3d dir = p - eye;
             const double dist = dir.norm();
             if (!(dist > 0)) continue;

@@ -19,7 +19,6 @@ class MovingNearest {
   MovingNearest(const KdTree& tree, std::vector<std::uint32_t> ids);
   // Keeps lists for `ids` (increasing) from now on: those of ids it kept already stay, the others start empty.
   void serve(std::vector<std::uint32_t> ids);
-  const std::vector<std::uint32_t>& ids() const { return ids_; }
   // As tree.nearest(query, max_distance_mm, hint) for moving point `id` now at `query`. Calls for different ids
   // may run in parallel; calls for one id must not.
   Neighbor nearest(std::uint32_t id, const Eigen::Vector3f& query, float max_distance_mm, std::uint32_t hint);
