@@ -91,8 +91,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("filter", 0.0);
   std::vector<std::uint32_t> kept;
   {
-    sort_for_search(scan);  // its tree then makes no copy (issue 8: peak memory)
-    const KdTree tree(scan.points);
+    const KdTree tree = sort_for_search(scan);  // a tree over points in its leaf order copies none (issue 8)
     RadiusOutlierResult ror = remove_radius_outliers(tree, params.outliers);
     res.outlier_radius_mm = ror.radius_mm;
     res.outlier_min_neighbors = ror.min_neighbors;
@@ -159,10 +158,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     for (auto& p : res.cloud.points) p = rot * p + tr;
     for (auto& n : res.cloud.normals) n = rot * n;
   }
-  // In the tree's leaf order, the tree below makes no copy of the points (issue 8: peak memory).
-  sort_for_search(res.cloud);
+  // In the tree's leaf order, the tree makes no copy of the points (issue 8: peak memory).
+  const KdTree tree = sort_for_search(res.cloud);
   const Cloud& cloud = res.cloud;
-  const KdTree tree(cloud.points);
   res.resolution_mm = spatial_resolution(tree, 200000).median_mm;
   if (!(res.resolution_mm > 0)) res.resolution_mm = 0.5;
 

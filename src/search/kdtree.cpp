@@ -402,6 +402,41 @@ KdTree::KdTree(const std::vector<Eigen::Vector3f>& points) : impl_(std::make_uni
   if (m.nodes.capacity() > m.nodes.size() + m.nodes.size() / 8) m.nodes.shrink_to_fit();
 }
 
+KdTree::KdTree() : impl_(std::make_unique<Impl>()) {}
+
+KdTree KdTree::sorting(std::vector<Eigen::Vector3f>& points, std::vector<std::uint32_t>& order) {
+  KdTree tree;
+  Impl& m = *tree.impl_;
+  std::vector<Eigen::Vector3f> sorted;
+  sorted.reserve(points.size());
+  order.clear();
+  order.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (is_finite(points[i])) {
+      sorted.push_back(points[i]);
+      order.push_back(static_cast<std::uint32_t>(i));
+    }
+  m.count = sorted.size();
+  if (m.count > 0) {
+    // the copying build of the constructor, whose moved copy and index map are the sorted points and the order
+    m.nodes.reserve(m.count / 3 + 64);
+    m.box = bounds_of(sorted.data(), 0, m.count);
+    Box box = m.box;
+    Builder<BuildMode::Copy> builder(sorted.data(), sorted.data(), order.data());
+    builder.build(m.nodes, 0, 0, m.count, box);
+    if (m.nodes.capacity() > m.nodes.size() + m.nodes.size() / 8) m.nodes.shrink_to_fit();
+  }
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!is_finite(points[i])) {
+      sorted.push_back(points[i]);
+      order.push_back(static_cast<std::uint32_t>(i));
+    }
+  points.swap(sorted);
+  m.points = &points;
+  m.pts = points.data();
+  return tree;
+}
+
 std::vector<std::uint32_t> spatial_sort_order(const std::vector<Eigen::Vector3f>& points) {
   std::vector<std::uint32_t> ids;
   ids.reserve(points.size());

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "ewis/core/parallel.hpp"
+#include "ewis/core/scratch.hpp"
 #include "ewis/search/kdtree.hpp"
 
 namespace ewis {
@@ -43,8 +44,24 @@ void permute_in_place(std::vector<T>& values, const std::vector<std::uint32_t>& 
 
 }  // namespace
 
-void sort_for_search(Cloud& cloud, std::size_t copy_max_points) {
+KdTree sort_for_search(Cloud& cloud, std::size_t copy_max_points) {
   const std::size_t n = cloud.points.size();
+  // Up to copy_max_points: the tree's build moves a copy of the positions, which becomes the cloud's (the leaf
+  // order found on contiguous memory, and no second build over the sorted points); then the other attributes, one
+  // copy at a time, gathered in parallel (12 bytes a point at most while it lives: the demo's 1.27 M points sort in
+  // 0.07 s less than cycle by cycle, and its peak memory, set by the report, is unchanged).
+  if (n <= copy_max_points) {
+    std::vector<std::uint32_t> order;
+    KdTree tree = KdTree::sorting(cloud.points, order);
+    permute(cloud.normals, order);
+    permute(cloud.colors, order);
+    permute(cloud.intensities, order);
+    for (ScalarField& f : cloud.scalars) permute(f.values, order);
+    return tree;
+  }
+  // Larger clouds: the order from a build that moves only indices (4 bytes a point), then every attribute
+  // permuted in place, one bit a point marking what is done, so that their peak (set by the filter step) does not
+  // grow; the tree is built over the sorted positions, in place.
   // new[j] = old[order[j]]: the finite points in leaf order, then the others in their order
   std::vector<std::uint32_t> order = spatial_sort_order(cloud.points);
   if (order.size() < n) {
@@ -53,24 +70,15 @@ void sort_for_search(Cloud& cloud, std::size_t copy_max_points) {
     for (std::size_t i = 0; i < n; ++i)
       if (!placed[i]) order.push_back(static_cast<std::uint32_t>(i));
   }
-  // Attribute by attribute. Up to copy_max_points each is gathered into a copy in parallel (12 bytes a point of
-  // positions at most while it lives: the demo's 1.27 M points sort in 0.07 s less and its peak memory, set by the
-  // report, is unchanged); larger clouds are permuted in place, one bit a point marking what is done, so that
-  // their peak (set by the filter step) does not grow.
-  if (n <= copy_max_points) {
-    permute(cloud.points, order);
-    permute(cloud.normals, order);
-    permute(cloud.colors, order);
-    permute(cloud.intensities, order);
-    for (ScalarField& f : cloud.scalars) permute(f.values, order);
-    return;
-  }
   std::vector<bool> done;
   permute_in_place(cloud.points, order, done);
   permute_in_place(cloud.normals, order, done);
   permute_in_place(cloud.colors, order, done);
   permute_in_place(cloud.intensities, order, done);
   for (ScalarField& f : cloud.scalars) permute_in_place(f.values, order, done);
+  release_memory(order);
+  release_memory(done);
+  return KdTree(cloud.points);
 }
 
 }  // namespace ewis

@@ -262,7 +262,7 @@ TEST_P(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) 
   const KdTree before(original.points);
   ASSERT_NE(before.spatial_order().ids, nullptr);  // random order: the tree copies
 
-  sort_for_search(cloud, GetParam());
+  const KdTree sorting = sort_for_search(cloud, GetParam());
   ASSERT_EQ(cloud.size(), original.size());
   std::vector<bool> seen(cloud.size(), false);
   std::size_t finite = 0;
@@ -283,20 +283,29 @@ TEST_P(SortForSearch, PermutesEveryAttributeAndTheNextTreeUsesThePointsInPlace) 
   }
 
   const KdTree after(cloud.points);
-  EXPECT_EQ(after.spatial_order().ids, nullptr);  // no copy: the points are used where they are
-  std::vector<Neighbor> a, b;
+  // no copy: the points are used where they are, by the tree the sort returned and by a tree built afterwards
+  EXPECT_EQ(after.spatial_order().ids, nullptr);
+  EXPECT_EQ(sorting.spatial_order().ids, nullptr);
+  EXPECT_EQ(sorting.spatial_order().size(), finite);
+  EXPECT_EQ(&sorting.points(), &cloud.points);
+  std::vector<Neighbor> a, b, c;
   for (const auto& q : queries(5, 40, 55.f)) {
     before.knn(q, 9, a);
     after.knn(q, 9, b);
+    sorting.knn(q, 9, c);
     ASSERT_EQ(a.size(), b.size());
+    ASSERT_EQ(a.size(), c.size());
     for (std::size_t r = 0; r < a.size(); ++r) {
       EXPECT_EQ(a[r].distance_sq, b[r].distance_sq);
       EXPECT_EQ(original.points[a[r].index], cloud.points[b[r].index]);
+      EXPECT_EQ(b[r].index, c[r].index);
+      EXPECT_EQ(b[r].distance_sq, c[r].distance_sq);
     }
     EXPECT_EQ(before.count_within(q, 6.f, 1000), after.count_within(q, 6.f, 1000));
+    EXPECT_EQ(after.count_within(q, 6.f, 1000), sorting.count_within(q, 6.f, 1000));
   }
   const Cloud sorted = cloud;
-  sort_for_search(cloud, GetParam());  // sorting again changes nothing
+  (void)sort_for_search(cloud, GetParam());  // sorting again changes nothing
   EXPECT_EQ(cloud.scalars[0].values, sorted.scalars[0].values);
 }
 
