@@ -2,6 +2,7 @@
 #include "ewis/inspect/fillet_fit.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -80,15 +81,18 @@ bool helix_of(const FilletModel& m, FilletHelix& h) {
   return true;
 }
 
-// Distance from p to the half-line from `start` along the unit `dir` (a fillet's leg).
-double half_line_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& start, const Eigen::Vector3d& dir) {
-  const double s = std::max(0.0, (p - start).dot(dir));
+// Distance from p to the half-line from `start` along the unit `dir` (a fillet's leg); `s`: the closest point's
+// distance from the start.
+double half_line_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& start, const Eigen::Vector3d& dir,
+                          double& s) {
+  s = std::max(0.0, (p - start).dot(dir));
   return (p - start - s * dir).norm();
 }
 
 // Distance from p to the helix over [0, phi_end] (infinity where its closest point lies beyond an end: the legs
-// hold those points), by Newton steps on the squared distance from p's angle about the axis.
-double helix_distance(const FilletHelix& h, const Eigen::Vector3d& p) {
+// hold those points), by Newton steps on the squared distance from p's angle about the axis; `phi`: the closest
+// point's angle.
+double helix_distance(const FilletHelix& h, const Eigen::Vector3d& p, double& phi_out) {
   const Eigen::Vector3d w = p - h.axis_point;
   double phi = std::atan2(w.dot(h.e_t0), -w.dot(h.e_n0));
   const double mid = 0.5 * h.phi_end;
@@ -106,8 +110,99 @@ double helix_distance(const FilletHelix& h, const Eigen::Vector3d& p) {
     phi += step;
     if (std::abs(step) < 1e-12) break;
   }
+  phi_out = phi;
   if (phi < 0.0 || phi > h.phi_end) return std::numeric_limits<double>::infinity();
   return (p - h.at(phi)).norm();
+}
+
+// Each piece of a fillet's centreline as c = a + f1 b + f2 c + f3 d, with weights f that depend on the point along
+// the piece only: the legs c = t + s leg; the arc c = centre + cos(phi) ea + sin(phi) (its spoke a quarter turn on
+// towards eb); the helix c = axis_point - rho cos(phi) e_n0 + rho sin(phi) e_t0 + phi lift n. A model's small change
+// moves a point of fixed weights by the change of these vectors.
+enum Piece : std::uint8_t { kLeg1, kLeg2, kArc, kHelix, kPieces };
+struct PieceFrames {
+  Eigen::Vector3d a[kPieces], b[kPieces], c[kPieces], d[kPieces];
+};
+
+PieceFrames frames_of(const FilletShape& s) {
+  PieceFrames f;
+  for (int k = 0; k < kPieces; ++k) f.a[k] = f.b[k] = f.c[k] = f.d[k] = Eigen::Vector3d::Zero();
+  f.a[kLeg1] = s.t1, f.b[kLeg1] = s.leg1;
+  f.a[kLeg2] = s.t2, f.b[kLeg2] = s.leg2;
+  if (s.has_arc) {
+    f.a[kArc] = s.centre, f.b[kArc] = s.ea;
+    f.c[kArc] = (s.s_ab >= 0 ? 1.0 : -1.0) * s.n.cross(s.ea);
+  }
+  if (s.helical) {
+    const FilletHelix& h = s.helix;
+    f.a[kHelix] = h.axis_point, f.b[kHelix] = -h.rho * h.e_n0, f.c[kHelix] = h.rho * h.e_t0, f.d[kHelix] = h.lift * h.n;
+  }
+  return f;
+}
+
+// The closest point of a fillet's centreline to a surface point: its piece, its weights on the piece's frame, and the
+// unit vector from it to the point (the distance's gradient in the point's position; zero on the centreline).
+struct FilletFoot {
+  Piece piece = kLeg1;
+  double f1 = 0, f2 = 0, f3 = 0;
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+};
+
+// fillet_shape_distance, and with `foot` the closest point's description (the same distance, the same arithmetic).
+double shape_distance(const FilletShape& s, const Eigen::Vector3d& p, FilletFoot* foot) {
+  double s1 = 0, s2 = 0, phi = 0;
+  const double d1 = half_line_distance(p, s.t1, s.leg1, s1), d2 = half_line_distance(p, s.t2, s.leg2, s2);
+  double best = std::min(d1, d2);
+  Piece piece = d2 < d1 ? kLeg2 : kLeg1;
+  Eigen::Vector3d wp = Eigen::Vector3d::Zero();
+  if (s.helical) {
+    const double dh = helix_distance(s.helix, p, phi);
+    if (dh < best) best = dh, piece = kHelix;
+  } else if (s.has_arc) {
+    const Eigen::Vector3d w = p - s.centre;
+    const double h = w.dot(s.n);
+    wp = w - h * s.n;
+    // inside the arc's angle: wp lies between ea and eb (the short way; the turn is below pi)
+    const bool inside = s.ea.cross(wp).dot(s.n) * s.s_ab >= 0 && wp.cross(s.eb).dot(s.n) * s.s_ab >= 0;
+    if (inside) {
+      const double da = std::hypot(wp.norm() - s.bend_radius_mm, h);
+      if (da < best) best = da, piece = kArc;
+    }
+  }
+  if (!foot) return best;
+  FilletFoot& f = *foot;
+  f = FilletFoot{};
+  f.piece = piece;
+  Eigen::Vector3d c;
+  if (piece == kLeg1) {
+    f.f1 = s1;
+    c = s.t1 + s1 * s.leg1;
+  } else if (piece == kLeg2) {
+    f.f1 = s2;
+    c = s.t2 + s2 * s.leg2;
+  } else if (piece == kHelix) {
+    f.f1 = std::cos(phi), f.f2 = std::sin(phi), f.f3 = phi;
+    c = s.helix.at(phi);
+  } else {
+    const double r = wp.norm();
+    const Eigen::Vector3d spoke = r > 0 ? Eigen::Vector3d(wp * (s.bend_radius_mm / r)) : Eigen::Vector3d(s.ea);
+    const Eigen::Vector3d quarter = (s.s_ab >= 0 ? 1.0 : -1.0) * s.n.cross(s.ea);
+    f.f1 = spoke.dot(s.ea) / s.ea.squaredNorm();
+    f.f2 = spoke.dot(quarter) / quarter.squaredNorm();
+    c = s.centre + spoke;
+  }
+  const Eigen::Vector3d to_point = p - c;
+  const double len = to_point.norm();
+  if (len > 0) f.u = to_point / len;
+  return best;
+}
+
+// The derivative of the distance from a point to the centreline in a model parameter, from the change `delta` of the
+// frames (per unit of the parameter): the closest point held at its weights (the envelope theorem: the closest point's
+// own shift along the curve changes the distance only to second order).
+double distance_derivative(const FilletFoot& f, const PieceFrames& delta) {
+  const int k = f.piece;
+  return -f.u.dot(delta.a[k] + f.f1 * delta.b[k] + f.f2 * delta.c[k] + f.f3 * delta.d[k]);
 }
 
 }  // namespace
@@ -209,18 +304,7 @@ FilletShape fillet_shape(const FilletModel& m) {
   return s;
 }
 
-double fillet_shape_distance(const FilletShape& s, const Eigen::Vector3d& p) {
-  double best = std::min(half_line_distance(p, s.t1, s.leg1), half_line_distance(p, s.t2, s.leg2));
-  if (s.helical) return std::min(best, helix_distance(s.helix, p));
-  if (!s.has_arc) return best;
-  const Eigen::Vector3d w = p - s.centre;
-  const double h = w.dot(s.n);
-  const Eigen::Vector3d wp = w - h * s.n;
-  // inside the arc's angle: wp lies between ea and eb (the short way; the turn is below pi)
-  const bool inside = s.ea.cross(wp).dot(s.n) * s.s_ab >= 0 && wp.cross(s.eb).dot(s.n) * s.s_ab >= 0;
-  if (inside) best = std::min(best, std::hypot(wp.norm() - s.bend_radius_mm, h));
-  return best;
-}
+double fillet_shape_distance(const FilletShape& s, const Eigen::Vector3d& p) { return shape_distance(s, p, nullptr); }
 
 double fillet_centreline_distance(const FilletModel& m, const Eigen::Vector3d& p) {
   return fillet_shape_distance(fillet_shape(m), p);
@@ -247,9 +331,12 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
   model.leg1.normalize();
   model.leg2.normalize();
   std::vector<double> res(n), tmp;
-  auto residuals = [&](const FilletModel& m, std::vector<double>& r) {
+  // Residuals, and with `feet` each point's closest point on the centreline (for the Jacobian).
+  std::vector<FilletFoot> feet(n), trial_feet(n);
+  auto residuals = [&](const FilletModel& m, std::vector<double>& r, std::vector<FilletFoot>* ft) {
     const FilletShape shape = fillet_shape(m);
-    for (std::size_t i = 0; i < n; ++i) r[i] = (fillet_shape_distance(shape, pts[i]) - m.tube_radius_mm) * inv_scale[i];
+    for (std::size_t i = 0; i < n; ++i)
+      r[i] = (shape_distance(shape, pts[i], ft ? &(*ft)[i] : nullptr) - m.tube_radius_mm) * inv_scale[i];
   };
   auto sigma_of = [&](const std::vector<double>& r) { return robust_sigma(r, params.min_noise_mm, tmp); };
   auto cost_of = [&](const std::vector<double>& r, double c) {
@@ -258,8 +345,13 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
     return s;
   };
 
-  // Forward-difference Jacobian in the local parameterisation (steps sized to each parameter's scale); the
-  // columns of held parameters stay zero.
+  // The Jacobian in the local parameterisation at the current residuals (`feet` are theirs). The centreline's
+  // frames are differenced forward (steps sized to each parameter's scale), and each point's derivative is its
+  // closest point's shift along the unit vector to it: one evaluation per point and parameter of a sum of four
+  // vectors instead of a distance (the derivative of the forward difference of the distances to first order; the
+  // tube radius's column is -1). A step that changes the centreline's kind (the tilt leaving 0 makes the arc a
+  // helix) has no common frame: its column is the forward difference of the residuals. Held parameters' columns
+  // stay zero.
   Eigen::MatrixXd J(n, kParams);
   std::vector<double> shifted(n);
   const auto held = [&](int j) { return (j == 8 && !params.fit_tube_radius) || (j == 7 && !params.fit_bend_radius); };
@@ -268,15 +360,34 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
     const double scale = step_scale(m);
     const double h[kTiltedParams] = {1e-4 * scale, 1e-4 * scale, 1e-4 * scale, 1e-5, 1e-5, 1e-5, 1e-5, 1e-5,
                                      1e-5 * scale, 1e-5};
+    const FilletShape shape = fillet_shape(m);
+    const PieceFrames frames = frames_of(shape);
     for (int j = 0; j < kParams; ++j) {
       if (held(j)) {
         J.col(j).setZero();
         continue;
       }
+      if (j == 8) {
+        for (std::size_t i = 0; i < n; ++i) J(i, j) = -inv_scale[i];
+        continue;
+      }
       Vec x = Vec::Zero();
       x[j] = h[j];
-      residuals(apply<kParams>(m, x), shifted);
-      for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
+      const FilletModel moved = apply<kParams>(m, x);
+      const FilletShape moved_shape = fillet_shape(moved);
+      if (moved_shape.helical != shape.helical || moved_shape.has_arc != shape.has_arc) {
+        residuals(moved, shifted, nullptr);
+        for (std::size_t i = 0; i < n; ++i) J(i, j) = (shifted[i] - res[i]) / h[j];
+        continue;
+      }
+      PieceFrames delta = frames_of(moved_shape);
+      for (int k = 0; k < kPieces; ++k) {
+        delta.a[k] = (delta.a[k] - frames.a[k]) / h[j];
+        delta.b[k] = (delta.b[k] - frames.b[k]) / h[j];
+        delta.c[k] = (delta.c[k] - frames.c[k]) / h[j];
+        delta.d[k] = (delta.d[k] - frames.d[k]) / h[j];
+      }
+      for (std::size_t i = 0; i < n; ++i) J(i, j) = distance_derivative(feet[i], delta) * inv_scale[i];
     }
   };
   // The Cauchy-weighted normal equations at the current residuals (and the weighted residual sums).
@@ -298,7 +409,7 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
     return ne;
   };
 
-  residuals(model, res);
+  residuals(model, res, &feet);
   double lambda = 1e-3;
   bool converged = false;
   for (int it = 0; it < params.max_iterations; ++it) {
@@ -324,10 +435,11 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
         lambda *= 10;
         continue;
       }
-      residuals(trial, shifted);
+      residuals(trial, shifted, &trial_feet);
       if (cost_of(shifted, c) <= cost) {
         model = trial;
         res.swap(shifted);
+        feet.swap(trial_feet);
         lambda = std::max(lambda * 0.2, 1e-9);
         accepted = true;
         const bool tilt_settled = kParams == kPlanarParams || std::abs(step[kParams - 1]) < 1e-7;
@@ -354,12 +466,21 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
   out.model = model;
   out.sigma_mm = sigma;
   out.rms_mm = ne.wsum > 0 ? std::sqrt(ne.wr2 / ne.wsum) : 0.0;
-  const Eigen::LDLT<Mat> ldlt(H);
-  const Mat cov = ldlt.solve(Mat::Identity()) * (out.rms_mm * out.rms_mm);
+  // The bend radius's variance from the pseudo-inverse: where the window holds only the arc, its ends (two
+  // combinations of the vertex and the legs) do not move the residuals, and those flat directions, whose inverse is
+  // unbounded, are left out when the radius is not among them (else the radius is unknown: infinite variance).
+  const Eigen::SelfAdjointEigenSolver<Mat> eigen(H);
+  const double top = eigen.eigenvalues()[kParams - 1];
+  double var = 0;
+  for (int k = 0; k < kParams; ++k) {
+    const double ev = eigen.eigenvalues()[k], along = eigen.eigenvectors()(7, k);
+    if (ev > 1e-10 * top) var += along * along / ev;
+    else if (std::abs(along) > 1e-3) var = std::numeric_limits<double>::infinity();
+  }
   // log-radius parameter: se(R) = R se(log R)
-  const double var = cov(7, 7);
-  out.bend_radius_se_mm = std::isfinite(var) && var >= 0 ? model.bend_radius_mm * std::sqrt(var)
-                                                          : std::numeric_limits<double>::infinity();
+  var *= out.rms_mm * out.rms_mm;
+  out.bend_radius_se_mm = std::isfinite(var) && var >= 0 && top > 0 ? model.bend_radius_mm * std::sqrt(var)
+                                                                    : std::numeric_limits<double>::infinity();
   out.ok = converged && std::isfinite(model.bend_radius_mm) && model.turn_rad() > 1e-3 && model.tube_radius_mm > 0;
   return out;
 }

@@ -87,9 +87,13 @@ TEST(ScannedBend, ACBendReadsItsSecondArc) {
     const Bend b = make_bend(c_bend(), 0.5 * d, seed);
     EXPECT_NEAR(min_radius(b), truth, 0.02 * truth) << "seed " << seed;
     if (seed == 16) {
+      // Inside the long arc the fillet's legs lie beyond the window and its vertex has a flat direction. With the
+      // Jacobian by forward differences of the distances the fit wandered along it until its iteration limit, and
+      // only a second run (FilletRefineParams::settle_unconverged) kept its reading from the circle windows' 84.56;
+      // with the closest points' derivatives the flat direction has no gradient and the fit converges by itself.
       FilletRefineParams unsettled;
       unsettled.settle_unconverged = false;
-      EXPECT_LT(min_radius(b, unsettled), 0.97 * truth);  // the circle windows' 84.56
+      EXPECT_NEAR(min_radius(b, unsettled), truth, 0.02 * truth);
     }
   }
 }
