@@ -2,6 +2,8 @@
 // both ways along the tube, one fitted sub-cable (4.2.3) after the other (4.2.4), bridging short gaps.
 #include "ewis/tubes/trace.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -25,6 +27,15 @@ struct Walk {
   std::vector<TubeGap> gaps;
   std::string reason;
   double length = 0;
+};
+
+// Where a walk would have stopped on meeting the other half of the trace (see walk's `other`): the step's end, the
+// distance that counts as meeting, and the walk as it stood before the step.
+struct MeetCheck {
+  Eigen::Vector3d end;
+  double near_mm;
+  std::size_t segs, gaps;
+  double length;
 };
 
 double median(std::vector<double> v) {
@@ -86,8 +97,11 @@ SubCable make_seg(const Eigen::Vector3d& s, const Eigen::Vector3d& e, double r, 
   return c;
 }
 
-// paper 4.2.4: move the search structure along `dir` from the starting cylinder until the tube ends.
-Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, const std::vector<SubCable>* other) {
+// paper 4.2.4: move the search structure along `dir` from the starting cylinder until the tube ends, or until it
+// meets `other` (the other half of the trace). `meets` (with no `other`) gets every place where that test would be
+// made, in order, so that it can be made afterwards (meet_other): the walk itself does not depend on it.
+Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, const std::vector<SubCable>* other,
+          std::vector<MeetCheck>* meets = nullptr) {
   Walk w;
   const TubeParams& p = ctx.params;
   Eigen::Vector3d a = s.point, d = dir.normalized();
@@ -145,6 +159,7 @@ Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, const st
         w.reason = "loop";
         break;
       }
+      if (meets) meets->push_back({st.end, near, w.segs.size(), w.gaps.size(), w.length});
       accept(st);
       if (!st.partial) continue;
       fail = "no data";
@@ -191,13 +206,36 @@ Context make_context(const Cloud& cloud, const KdTree& tree, const TubeParams& p
   return ctx;
 }
 
-// Both walks from the starting cylinder, then the chain, centreline and points.
+// The walk `w` as it would have ended had it been made with `other`: cut at the first place where it meets it.
+void meet_other(Walk& w, const std::vector<MeetCheck>& meets, const std::vector<SubCable>& other) {
+  for (const MeetCheck& m : meets)
+    if (near_chain(other, 0, m.end, m.near_mm)) {
+      w.segs.resize(m.segs);
+      w.gaps.resize(m.gaps);
+      w.length = m.length;
+      w.reason = "loop";
+      return;
+    }
+}
+
+// Both walks from the starting cylinder, then the chain, centreline and points. The walks run at once: the backward
+// one, which stops where it meets the forward one, is cut there afterwards (the same chain as one after the other;
+// a ring's backward walk goes on round until it meets itself, work that is then dropped). Each has its own scratch
+// and memo of normals (which only saves work); the backward one's memo is kept for what follows.
 TubeTrace trace_from(Context& ctx, const AxisState& s, const Eigen::Vector3d& seed) {
   TubeTrace t;
   t.seed = seed;
   configure(ctx, s);
-  Walk fwd = walk(ctx, s, s.dir, nullptr);
-  Walk back = walk(ctx, s, -s.dir, &fwd.segs);
+  auto memo = std::move(ctx.normals);
+  ctx.normals.clear();
+  Context back_ctx = ctx;
+  ctx.normals = std::move(memo);
+  Walk fwd, back;
+  std::vector<MeetCheck> meets;
+  tbb::parallel_invoke([&] { fwd = walk(ctx, s, s.dir, nullptr); },
+                  [&] { back = walk(back_ctx, s, -s.dir, nullptr, &meets); });
+  meet_other(back, meets, fwd.segs);
+  ctx.normals.merge(back_ctx.normals);
   for (auto it = back.segs.rbegin(); it != back.segs.rend(); ++it) {
     SubCable c = *it;
     std::swap(c.cylinder.start, c.cylinder.end);
