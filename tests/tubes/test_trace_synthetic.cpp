@@ -131,6 +131,33 @@ TEST(TraceTube, BentTubeTracedEndToEnd) {
   EXPECT_NEAR(t.length_mm, synth::distance_to_polyline(truth, truth.back()) + ewis::polyline_length(truth), 4.0);
 }
 
+// A closed ring (a cable looped round, 60 mm radius, 8 mm thick, its plane tilted 30 deg from facing the sensor):
+// the trace goes round once. The two walks from the start run at once; the forward one stops on reaching its own
+// beginning, the backward one is cut where it meets the forward one (it went round too): what is left must be one
+// turn, with no stretch twice.
+TEST(TraceTube, AClosedRingIsTracedOnceRound) {
+  const double r = 4.0, R = 60.0;
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(M_PI / 6, Vector3d(1, 0.3, 0).normalized()).toRotationMatrix();
+  const Vector3d o(0, 0, 600);
+  const std::vector<Vector3d> truth = synth::curve(
+      [&](double a) { return Vector3d(o + rot * Vector3d(R * std::cos(a), R * std::sin(a), 0)); }, 0, 2 * M_PI, 720);
+  synth::Scene scene;
+  scene.add_tube(truth, r, 0);
+  const synth::Scan scan = synth::render(scene);
+  const ewis::KdTree tree(scan.cloud.points);
+  const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(truth[100], r), {});
+  const Metrics m = measure(t, truth, r);
+  print("ring", t, m);
+  ASSERT_TRUE(t.found);
+  EXPECT_GE(m.coverage, 0.95);
+  EXPECT_LE(m.rms, 0.3);
+  EXPECT_TRUE(t.end_reason_front == "loop" || t.end_reason_back == "loop")
+      << t.end_reason_front << " / " << t.end_reason_back;
+  // once round: at most the circumference and one step's reach beyond it
+  EXPECT_LE(t.length_mm, 2 * M_PI * R + 2 * r);
+  EXPECT_GE(t.length_mm, 0.95 * 2 * M_PI * R);
+}
+
 // A 3 mm cable in a sparse scan (0.75 mm pixels at 600 mm, 0.2 mm noise along the rays, 40 % outliers): four
 // points across its seen side, 10-20 per step window. The starting arc (counted in 10 deg sectors of 2 points)
 // read 40-90 deg and the radius of 20-point fits wandered by 50 %: nothing or a few tens of mm was traced.
