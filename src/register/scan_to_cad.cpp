@@ -59,8 +59,8 @@ TargetView view_of(const CadTarget& target, const std::vector<Eigen::Vector3f>& 
   const Eigen::Vector3d eye = pose * viewpoint;
   TargetView v;
   v.cloud = sample_rigid_view(target, blo, bhi, cull_back_faces ? &eye : nullptr);
-  sort_for_search(v.cloud);  // its tree then makes no copy (issue 8: peak memory)
-  v.tree = std::make_unique<KdTree>(v.cloud.points);
+  // In its leaf order, with the tree the sort built: the tree uses the points in place (issue 8: peak memory).
+  v.tree = std::make_unique<KdTree>(sort_for_search(v.cloud));
   return v;
 }
 
