@@ -117,6 +117,25 @@ void BM_SortForSearch(benchmark::State& st) {
   set_counters(st, pts.size());
 }
 
+// The way sort_for_search worked until 2026-12-05, for comparison: the order from the index-only build (its reads
+// through the indices are scattered), the positions gathered by it (serially here; that code gathered in parallel),
+// then the tree built again over them in place.
+void BM_SortThenBuild(benchmark::State& st) {
+  const auto& pts = scan(st.range(0) == 780);
+  for (auto _ : st) {
+    st.PauseTiming();
+    std::vector<Eigen::Vector3f> points = pts;
+    st.ResumeTiming();
+    const std::vector<std::uint32_t> order = spatial_sort_order(points);
+    std::vector<Eigen::Vector3f> moved(order.size());
+    for (std::size_t j = 0; j < order.size(); ++j) moved[j] = points[order[j]];
+    points.swap(moved);
+    const KdTree t(points);
+    benchmark::DoNotOptimize(t.size());
+  }
+  set_counters(st, pts.size());
+}
+
 void BM_Resolution(benchmark::State& st) {
   const KdTree& t = tree(st.range(0) == 780);
   ResolutionResult r;
@@ -205,6 +224,7 @@ void BM_Normals_k16(benchmark::State& st) {
   BENCHMARK(fn)->Arg(780)->Arg(1300)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()
 EWIS_BENCH(BM_KdTreeBuild);
 EWIS_BENCH(BM_SortForSearch);
+EWIS_BENCH(BM_SortThenBuild);
 EWIS_BENCH(BM_Resolution);
 EWIS_BENCH(BM_RadiusOutliersDefault);
 EWIS_BENCH(BM_RadiusOutliers_r2_k4);
