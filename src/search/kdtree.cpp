@@ -407,15 +407,21 @@ KdTree::KdTree() : impl_(std::make_unique<Impl>()) {}
 KdTree KdTree::sorting(std::vector<Eigen::Vector3f>& points, std::vector<std::uint32_t>& order) {
   KdTree tree;
   Impl& m = *tree.impl_;
-  std::vector<Eigen::Vector3f> sorted;
+  std::vector<Eigen::Vector3f> sorted, others;
   sorted.reserve(points.size());
   order.clear();
   order.reserve(points.size());
+  std::vector<std::uint32_t> other_ids;  // the non-finite points, which go last in their order
   for (std::size_t i = 0; i < points.size(); ++i)
     if (is_finite(points[i])) {
       sorted.push_back(points[i]);
       order.push_back(static_cast<std::uint32_t>(i));
+    } else {
+      others.push_back(points[i]);
+      other_ids.push_back(static_cast<std::uint32_t>(i));
     }
+  // The caller's positions are copied: freed before the build, so that its nodes do not add to their two copies.
+  std::vector<Eigen::Vector3f>().swap(points);
   m.count = sorted.size();
   if (m.count > 0) {
     // the copying build of the constructor, whose moved copy and index map are the sorted points and the order
@@ -426,11 +432,8 @@ KdTree KdTree::sorting(std::vector<Eigen::Vector3f>& points, std::vector<std::ui
     builder.build(m.nodes, 0, 0, m.count, box);
     if (m.nodes.capacity() > m.nodes.size() + m.nodes.size() / 8) m.nodes.shrink_to_fit();
   }
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (!is_finite(points[i])) {
-      sorted.push_back(points[i]);
-      order.push_back(static_cast<std::uint32_t>(i));
-    }
+  sorted.insert(sorted.end(), others.begin(), others.end());
+  order.insert(order.end(), other_ids.begin(), other_ids.end());
   points.swap(sorted);
   m.points = &points;
   m.pts = points.data();

@@ -30,8 +30,8 @@ class KdTree {
   // Builds the tree and puts `points` into its leaf order by the same pass (the finite points in leaf order, then
   // the others in their order): the returned tree uses the permuted points in place (the same tree as a KdTree
   // built over them; identity spatial order), and `order` gets the permutation (new[j] = old[order[j]]) for the
-  // caller's other attributes. The build moves a contiguous copy of the points, which then becomes `points`: 16
-  // bytes a point while it runs, as the copying constructor above, and no second build.
+  // caller's other attributes. The build moves a contiguous copy of the points, which then becomes `points` (the
+  // caller's copy is freed before the build): 16 bytes a point and the nodes while it runs, no second build.
   static KdTree sorting(std::vector<Eigen::Vector3f>& points, std::vector<std::uint32_t>& order);
   ~KdTree();
   KdTree(KdTree&&) noexcept;

@@ -10,8 +10,9 @@ namespace ewis {
 // cloud.points, which must then stay where it is). Non-finite points go to the end in their order. Neighbours in
 // space become neighbours in memory, and every tree built over the cloud afterwards is the same and copies nothing.
 // Transient memory: up to `copy_max_points`, the positions' copy that the tree's build moves and the order (16
-// bytes a point) and then one other attribute's copy at a time (gathered in parallel); beyond that 4 bytes a point
-// for the order and no copy of the cloud (permuted in place, slower).
+// bytes a point; the cloud's own positions are freed before the build adds its nodes) and then one other
+// attribute's copy at a time (gathered in parallel); beyond that 4 bytes a point for the order and no copy of the
+// cloud (permuted in place, slower).
 KdTree sort_for_search(Cloud& cloud, std::size_t copy_max_points = std::size_t(4) << 20);
 
 }  // namespace ewis
