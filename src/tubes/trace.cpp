@@ -29,8 +29,8 @@ struct Walk {
   double length = 0;
 };
 
-// Where a walk would have stopped on meeting the other half of the trace (see walk's `other`): the step's end, the
-// distance that counts as meeting, and the walk as it stood before the step.
+// Where a walk would have stopped on meeting the other half of the trace (see walk and meet_other): the step's end,
+// the distance that counts as meeting, and the walk as it stood before the step.
 struct MeetCheck {
   Eigen::Vector3d end;
   double near_mm;
@@ -97,11 +97,10 @@ SubCable make_seg(const Eigen::Vector3d& s, const Eigen::Vector3d& e, double r, 
   return c;
 }
 
-// paper 4.2.4: move the search structure along `dir` from the starting cylinder until the tube ends, or until it
-// meets `other` (the other half of the trace). `meets` (with no `other`) gets every place where that test would be
-// made, in order, so that it can be made afterwards (meet_other): the walk itself does not depend on it.
-Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, const std::vector<SubCable>* other,
-          std::vector<MeetCheck>* meets = nullptr) {
+// paper 4.2.4: move the search structure along `dir` from the starting cylinder until the tube ends (or closes on
+// itself). `meets` gets every place where the walk would stop on meeting the other half of the trace, in order, so
+// that the test can be made once that half is known (meet_other): the walk itself does not depend on it.
+Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, std::vector<MeetCheck>* meets = nullptr) {
   Walk w;
   const TubeParams& p = ctx.params;
   Eigen::Vector3d a = s.point, d = dir.normalized();
@@ -153,9 +152,9 @@ Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, const st
         w.reason = "stop region";
         break;
       }
-      // a closed loop (a ring) or the other half of the trace: stop instead of going round again
+      // a closed loop (a ring): stop instead of going round again; the other half of the trace is met afterwards
       const double near = 0.5 * r_ref;
-      if (near_chain(w.segs, 3, st.end, near) || (other && near_chain(*other, 0, st.end, near))) {
+      if (near_chain(w.segs, 3, st.end, near)) {
         w.reason = "loop";
         break;
       }
@@ -232,8 +231,7 @@ TubeTrace trace_from(Context& ctx, const AxisState& s, const Eigen::Vector3d& se
   ctx.normals = std::move(memo);
   Walk fwd, back;
   std::vector<MeetCheck> meets;
-  tbb::parallel_invoke([&] { fwd = walk(ctx, s, s.dir, nullptr); },
-                  [&] { back = walk(back_ctx, s, -s.dir, nullptr, &meets); });
+  tbb::parallel_invoke([&] { fwd = walk(ctx, s, s.dir); }, [&] { back = walk(back_ctx, s, -s.dir, &meets); });
   meet_other(back, meets, fwd.segs);
   ctx.normals.merge(back_ctx.normals);
   for (auto it = back.segs.rbegin(); it != back.segs.rend(); ++it) {
