@@ -43,7 +43,7 @@ double support(const RegistrationResult& reg, const FreeSpaceCount& c) { return 
 // top must not lock onto the CAD plate's bottom face) and inside the box of the scan at `pose` grown by
 // `margin_mm` (nothing farther can be a correspondence). Owns its k-d tree.
 struct TargetView {
-  Cloud cloud;
+  std::unique_ptr<Cloud> cloud;  // held apart: the tree refers to its points, which a move of the view must not move
   std::unique_ptr<KdTree> tree;
 };
 
@@ -58,9 +58,9 @@ TargetView view_of(const CadTarget& target, const std::vector<Eigen::Vector3f>& 
   const Eigen::Vector3f blo = (lo.array() - margin_mm).cast<float>(), bhi = (hi.array() + margin_mm).cast<float>();
   const Eigen::Vector3d eye = pose * viewpoint;
   TargetView v;
-  v.cloud = sample_rigid_view(target, blo, bhi, cull_back_faces ? &eye : nullptr);
+  v.cloud = std::make_unique<Cloud>(sample_rigid_view(target, blo, bhi, cull_back_faces ? &eye : nullptr));
   // In its leaf order, with the tree the sort built: the tree uses the points in place (issue 8: peak memory).
-  v.tree = std::make_unique<KdTree>(sort_for_search(v.cloud));
+  v.tree = std::make_unique<KdTree>(sort_for_search(*v.cloud));
   return v;
 }
 
@@ -110,7 +110,7 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   // less than the culling test's slack, and the crop margin covers the coarse pass's largest distance.
   const TargetView view =
       view_of(target, scan, start, cull, params.icp.source_viewpoint, std::max(coarse_reach, final_d) + 1.0);
-  if (view.cloud.size() < 3) return run;
+  if (view.cloud->size() < 3) return run;
   // The coarse pass hands over a pose well inside the fine pass's first distance; the fine pass (with the
   // exclusion zone at the refined pose) takes it down to the final distance.
   IcpParams coarse_icp = icp;
@@ -118,15 +118,15 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   coarse_icp.coarse_distance_mm = 4.0 * final_d;
   IcpMemory memory;  // the fine pass goes on from the coarse pass's correspondences
   const RegistrationResult coarse =
-      align_point_to_plane(scan, view.cloud, *view.tree, start, coarse_icp, keep, progress, &memory);
+      align_point_to_plane(scan, *view.cloud, *view.tree, start, coarse_icp, keep, progress, &memory);
   keep = points_away_from_cables(scan, coarse.source_to_target, target, 0.0);
   if (keep.size() < 6) return run;
   IcpParams fine = icp;
   fine.initial_max_distance_mm = coarse_icp.final_max_distance_mm;
-  run.reg = align_point_to_plane(scan, view.cloud, *view.tree, coarse.source_to_target, fine, keep, {}, &memory);
+  run.reg = align_point_to_plane(scan, *view.cloud, *view.tree, coarse.source_to_target, fine, keep, {}, &memory);
   run.reg.iterations += coarse.iterations;
   run.excluded = scan.size() - keep.size();
-  if (bins) run.free_space = count_in_front(*bins, view.cloud, run.reg.source_to_target, params.in_front_margin_mm);
+  if (bins) run.free_space = count_in_front(*bins, *view.cloud, run.reg.source_to_target, params.in_front_margin_mm);
   return run;
 }
 
