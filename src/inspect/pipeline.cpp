@@ -7,6 +7,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string_view>
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
@@ -15,6 +16,7 @@
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/run_conflicts.hpp"
+#include "ewis/inspect/run_joins.hpp"
 #include "ewis/scene/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/register/sensor_origin.hpp"
@@ -426,24 +428,59 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     ci.length_mm = ci.trace.length_mm;
     // The smallest radius over the runs; the paper's figure from the same run.
     std::size_t best_run = 0;
+    FilletScan fs;
+    fs.cloud = &cloud;
+    fs.tree = &tree;
+    fs.usable = &usable;
+    fs.has_sensor = res.sensor_at_scan_origin;
+    fs.sensor_position = res.sensor_position;
     for (std::size_t k = 0; k < ci.runs.size(); ++k) {
       BendRadiusResult b = measure_bend_radius(ci.runs[k].centerline, ci.nominal_diameter_mm, params.bend);
       // Tight bends again, on the run's surface points (a short arc is a corner to any centreline window).
       std::vector<Eigen::Vector3d> surface;
       surface.reserve(ci.runs[k].points.size());
       for (std::uint32_t i : ci.runs[k].points) surface.push_back(cloud.points[i].cast<double>());
-      FilletScan fs;
-      fs.cloud = &cloud;
-      fs.tree = &tree;
-      fs.usable = &usable;
-      fs.has_sensor = res.sensor_at_scan_origin;
-      fs.sensor_position = res.sensor_position;
       refine_bends_with_fillets(b, ci.runs[k].centerline, surface, ci.runs[k].radius_mm, ci.nominal_diameter_mm,
                                 params.fillet, fs);
       const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
       if (better) {
         ci.bend = std::move(b);
         best_run = k;
+      }
+    }
+    // A bend hidden between two runs (an occluder across it split the cable there): measured across the gap by the
+    // fillet on both sides' surface points; the straight line drawn over the gap is no measurement, so only a
+    // fillet reading at the gap counts.
+    for (const RunJoin& j : join_runs_across_gaps(ci.runs, cloud.points, ci.nominal_diameter_mm, params.joins)) {
+      BendRadiusResult b = measure_bend_radius(j.centerline, ci.nominal_diameter_mm, params.bend);
+      std::vector<Eigen::Vector3d> surface;
+      surface.reserve(j.points.size());
+      for (std::uint32_t i : j.points) surface.push_back(cloud.points[i].cast<double>());
+      // without the occluder's mixed pixels at the gap's ends
+      FilletScan join_scan = fs;
+      std::vector<std::uint8_t> join_usable;
+      if (res.sensor_at_scan_origin && params.joins.drop_edge_points) {
+        const std::vector<std::uint32_t> under = points_under_something(
+            j, cloud.points, tree, &usable, res.sensor_position, ci.nominal_diameter_mm, params.joins);
+        if (!under.empty()) {
+          join_usable = usable;
+          for (std::uint32_t i : under) join_usable[i] = 0;
+          join_scan.usable = &join_usable;
+          std::vector<Eigen::Vector3d> kept;
+          kept.reserve(surface.size());
+          for (std::size_t k = 0; k < j.points.size(); ++k)
+            if (join_usable[j.points[k]]) kept.push_back(surface[k]);
+          surface.swap(kept);
+        }
+      }
+      refine_bends_with_fillets(b, j.centerline, surface, j.radius_mm, ci.nominal_diameter_mm, params.fillet,
+                                join_scan);
+      if (!b.min_radius_mm || !b.location || std::string_view(b.min_radius_model) != "fillet") continue;
+      const double near = std::max(params.joins.near_gap_diameters * ci.nominal_diameter_mm, params.joins.near_gap_min_mm);
+      if (distance_to_segment(Cylinder{j.gap_start, j.gap_end, j.radius_mm}, *b.location) > near) continue;
+      if (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm) {
+        ci.bend = std::move(b);
+        best_run = j.first;
       }
     }
     ci.min_bend_radius_mm = ci.bend.min_radius_mm;

@@ -12,6 +12,7 @@
 #include "ewis/core/pose.hpp"
 #include "ewis/core/progress.hpp"
 #include "ewis/filter/outlier_removal.hpp"
+#include "ewis/inspect/run_joins.hpp"
 #include "ewis/inspect/bend_radius.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/interference.hpp"
@@ -50,6 +51,7 @@ struct InspectParams {
   double untangle_margin_mm = 2.0;
   BendRadiusParams bend;
   FilletRefineParams fillet;            // tight bends re-measured on the surface points
+  RunJoinParams joins;                  // a bend hidden between two runs, measured across the gap (run_joins.hpp)
   PaperBendParams paper_bend;
   InterferenceParams interference;      // clearance_mm and resolution_mm are set per cable / scan
   // Attached elements end the measured run (CONTRACT): the trace stops where its centreline enters an
