@@ -29,7 +29,7 @@ struct RunJoinParams {
   double near_gap_min_mm = 10.0;
   // The occluder's edge: a structured-light sensor reports mixed pixels along its silhouette, at depths between it and
   // the cable behind, and some lie on the cable's surface band right at the gap's ends, where the fit on both sides
-  // is most sensitive (a 27.5 mm bend under a crossing cable read 23.9-26.5 mm with them, 26.9-27.9 without). Scan
+  // is most sensitive (a 27.5 mm bend under a crossing cable read 23.9-26.5 mm with them, 26.7-27.4 without). Scan
   // points within edge_reach_diameters x diameter of the gap (beyond half its length) with another scan point in
   // front of them (on their ray towards the sensor from front_min_mm to front_max_mm, within front_ray_mm of it)
   // are left out of the join's fit.
