@@ -453,9 +453,6 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     // fillet reading at the gap counts.
     for (const RunJoin& j : join_runs_across_gaps(ci.runs, cloud.points, ci.nominal_diameter_mm, params.joins)) {
       BendRadiusResult b = measure_bend_radius(j.centerline, ci.nominal_diameter_mm, params.bend);
-      std::vector<Eigen::Vector3d> surface;
-      surface.reserve(j.points.size());
-      for (std::uint32_t i : j.points) surface.push_back(cloud.points[i].cast<double>());
       // without the occluder's mixed pixels at the gap's ends
       FilletScan join_scan = fs;
       std::vector<std::uint8_t> join_usable;
@@ -466,13 +463,12 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
           join_usable = usable;
           for (std::uint32_t i : under) join_usable[i] = 0;
           join_scan.usable = &join_usable;
-          std::vector<Eigen::Vector3d> kept;
-          kept.reserve(surface.size());
-          for (std::size_t k = 0; k < j.points.size(); ++k)
-            if (join_usable[j.points[k]]) kept.push_back(surface[k]);
-          surface.swap(kept);
         }
       }
+      std::vector<Eigen::Vector3d> surface;
+      surface.reserve(j.points.size());
+      for (std::uint32_t i : j.points)
+        if (join_usable.empty() || join_usable[i]) surface.push_back(cloud.points[i].cast<double>());
       refine_bends_with_fillets(b, j.centerline, surface, j.radius_mm, ci.nominal_diameter_mm, params.fillet,
                                 join_scan);
       if (!b.min_radius_mm || !b.location || std::string_view(b.min_radius_model) != "fillet") continue;

@@ -131,7 +131,7 @@ std::vector<std::uint32_t> points_under_something(const RunJoin& join, const std
   const Eigen::Vector3d centre = 0.5 * (join.gap_start + join.gap_end);
   const double reach = 0.5 * (join.gap_end - join.gap_start).norm() + params.edge_reach_diameters * diameter_mm;
   std::vector<Neighbor> near;
-  tree.radius(centre.cast<float>(), float(reach), near);
+  tree.radius_unsorted(centre.cast<float>(), float(reach), near);  // the answer is sorted at the end
   const double step = params.front_ray_mm;
   for (const Neighbor& nb : near) {
     if (usable && !(*usable)[nb.index]) continue;
