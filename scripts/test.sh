@@ -21,7 +21,7 @@ if [ "${EWIS_SANITIZE_TESTS:-1}" != "0" ]; then
   cmake --preset asan >/dev/null
   cmake --build build-asan -j "$jobs" --target $targets
   label_regex="^($(echo $sanitized | tr ' ' '|'))\$"
-  many_draws="(FilletRefine\.(AVaryingCurvatureIsMeasuredAtItsPeakInNoise|AnArcsEndIsNoTighterBend|AShortTightArcBeatsALongLooserOne|ANarrowerWindowReadsASplinesPeak|ShortTightBendAmongLongArcs|ASmoothBendIsMeasuredAtItsPeak|AHelicalBendIsNotReadTighterAtItsEnds|AShortKinkIsReportedAtAnUpperBound|AFilletBendKeepsTheFilletsReading|ACircleFigureOnAFilletsArcIsNoBendOfItsOwn)|ScannedBend\..*|TouchingCables\.TracedAloneTheyTakeInTheNeighbour|RunJoins\.WithoutTheJoinOrWithTheOccludersMixedPixelsTheBendReadsWrong)\$"
+  many_draws="(FilletRefine\.(AVaryingCurvatureIsMeasuredAtItsPeakInNoise|AnArcsEndIsNoTighterBend|AShortTightArcBeatsALongLooserOne|ANarrowerWindowReadsASplinesPeak|ShortTightBendAmongLongArcs|ASmoothBendIsMeasuredAtItsPeak|AHelicalBendIsNotReadTighterAtItsEnds|AShortKinkIsReportedAtAnUpperBound|AFilletBendKeepsTheFilletsReading|ACircleFigureOnAFilletsArcIsNoBendOfItsOwn)|ScannedBend\..*|TouchingCables\.(TracedAloneTheyTakeInTheNeighbour|WithoutTheRetraceTheMovedCableTakesItsNeighbour)|RunJoins\.WithoutTheJoinOrWithTheOccludersMixedPixelsTheBendReadsWrong)\$"
   LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs" --timeout 900 -L "$label_regex" -E "$many_draws"
 fi

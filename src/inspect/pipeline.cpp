@@ -302,6 +302,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       if (seen_seeds.size() >= min_left) seeds.swap(seen_seeds);
       TubeTrace t = trace_cable(cloud, tree, seeds, radius, tp);
       const bool ok = t.found && !t.segments.empty() && t.length_mm >= params.min_found_length_diameters * pe.diameter_mm;
+      // (see InspectParams::min_run_support)
+      const bool supported = !ok || run_support(t, res.sensor_position, res.resolution_mm) >= params.min_run_support;
       std::vector<Cylinder> chain;
       for (const SubCable& s : t.segments) chain.push_back(s.cylinder);
       std::size_t newly = 0;
@@ -314,7 +316,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       }
       if (!ok || newly == 0) break;  // nothing more to find (bounded either way)
       for (std::uint32_t i : t.points) run_usable[i] = 0;
-      runs.push_back(std::move(t));
+      if (supported) runs.push_back(std::move(t));  // else its CAD samples are covered, and the next run starts elsewhere
     }
     return runs;
   };
@@ -338,6 +340,17 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   // of another's is traced again without the points that lie nearer the other's fitted surface than its own
   // (both judged on the first traces, so the order of the cables does not matter).
   if (params.untangle_touching && cable_plans.size() > 1) {
+    // A first run on another cable's run (most points shared), whose place that cable's CAD claims
+    // (run_conflicts.hpp), is not its cable's surface: left out of the chains judged here, and the cable is traced
+    // again without the other run's points. A cable moved off its CAD onto a neighbour's place has its CAD samples
+    // on the neighbour (J60 scene_057: cable_A 10-15 mm from its CAD, cable_C along it): its first trace takes the
+    // neighbour, and untangled by the nearer surfaces alone the two split the neighbour's points between them (the
+    // neighbour lost half its points, A walked along the rest), while A's own points beside it went untraced.
+    std::vector<RunOnOtherCable> on_other;
+    if (params.retrace_runs_on_others) on_other = runs_on_other_cables(res.cables, scene, cloud.points);
+    std::vector<std::vector<std::uint8_t>> lost(cable_plans.size());
+    for (std::size_t c = 0; c < cable_plans.size(); ++c) lost[c].assign(res.cables[c].runs.size(), 0);
+    for (const RunOnOtherCable& o : on_other) lost[o.cable][o.run] = 1;
     struct First {
       std::vector<Cylinder> chain;
       double radius_mm = 0;
@@ -345,35 +358,48 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     std::vector<First> first(cable_plans.size());
     for (std::size_t c = 0; c < cable_plans.size(); ++c) {
       std::vector<double> radii;
-      for (const TubeTrace& t : res.cables[c].runs)
-        for (const SubCable& s : t.segments) {
+      for (std::size_t k = 0; k < res.cables[c].runs.size(); ++k) {
+        if (lost[c][k]) continue;
+        for (const SubCable& s : res.cables[c].runs[k].segments) {
           first[c].chain.push_back(s.cylinder);
           if (!s.bridged) radii.push_back(s.cylinder.radius_mm);
         }
+      }
       if (!radii.empty()) first[c].radius_mm = median_in_place(radii);
     }
     std::vector<std::optional<std::vector<TubeTrace>>> again(cable_plans.size());  // traced again, all at once
     parallel_for_each_index(cable_plans.size(), [&](std::size_t c) {
-      if (first[c].chain.empty()) return;
       std::vector<std::uint8_t> mask;
       std::size_t dropped = 0;
-      for (std::size_t o = 0; o < cable_plans.size(); ++o) {
-        if (o == c || first[o].chain.empty()) continue;
-        const double reach = first[c].radius_mm + first[o].radius_mm + params.untangle_margin_mm;
-        if (chain_distance(first[c].chain, first[o].chain) > reach) continue;
+      for (const RunOnOtherCable& o : on_other) {
+        if (o.cable != c) continue;
         if (mask.empty()) mask = usable;
-        for (const TubeTrace& t : res.cables[o].runs)
-          for (std::uint32_t i : t.points) {
-            if (!mask[i]) continue;
-            const Eigen::Vector3d p = cloud.points[i].cast<double>();
-            const double own = std::abs(distance_to_chain(first[c].chain, p).distance_mm - first[c].radius_mm);
-            const double other = std::abs(distance_to_chain(first[o].chain, p).distance_mm - first[o].radius_mm);
-            if (other < own) {
-              mask[i] = 0;
-              ++dropped;
-            }
+        for (std::uint32_t i : res.cables[o.other_cable].runs[o.other_run].points)
+          if (mask[i]) {
+            mask[i] = 0;
+            ++dropped;
           }
       }
+      if (!first[c].chain.empty())
+        for (std::size_t o = 0; o < cable_plans.size(); ++o) {
+          if (o == c || first[o].chain.empty()) continue;
+          const double reach = first[c].radius_mm + first[o].radius_mm + params.untangle_margin_mm;
+          if (chain_distance(first[c].chain, first[o].chain) > reach) continue;
+          if (mask.empty()) mask = usable;
+          for (std::size_t k = 0; k < res.cables[o].runs.size(); ++k) {
+            if (lost[o][k]) continue;
+            for (std::uint32_t i : res.cables[o].runs[k].points) {
+              if (!mask[i]) continue;
+              const Eigen::Vector3d p = cloud.points[i].cast<double>();
+              const double own = std::abs(distance_to_chain(first[c].chain, p).distance_mm - first[c].radius_mm);
+              const double other = std::abs(distance_to_chain(first[o].chain, p).distance_mm - first[o].radius_mm);
+              if (other < own) {
+                mask[i] = 0;
+                ++dropped;
+              }
+            }
+          }
+        }
       if (dropped > 0) again[c] = trace_runs(c, mask);
     }, 1);
     for (std::size_t c = 0; c < cable_plans.size(); ++c)
@@ -381,7 +407,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   }
 
   // Two cables' runs on the same points: the place goes to the cable whose CAD is nearer (run_conflicts.hpp).
-  drop_runs_on_other_cables(res.cables, scene, cloud.size());
+  drop_runs_on_other_cables(res.cables, scene, cloud.points);
 
   for (std::size_t c = 0; c < cable_plans.size(); ++c) {
     CableInspection& ci = res.cables[c];

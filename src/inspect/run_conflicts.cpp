@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "ewis/scene/surface_index.hpp"
+#include "ewis/tubes/trace.hpp"
 
 namespace ewis {
 namespace {
@@ -16,28 +17,34 @@ struct RunRef {
   std::size_t cable = 0, run = 0;
 };
 
-// Mean distance of the run's axis points (segment ends) to the CAD surface of `index`.
-double mean_cad_distance(const TubeTrace& run, const SurfaceIndex& index) {
+// Mean distance of the run's scan points (up to 256 of them, evenly spread over its list) to the CAD surface of
+// `index`. The run's surface, not its axis: a run lies inside its own cable's CAD tube, where the axis's distance to
+// the surface is the radius, while another cable's CAD tube crossing it a little off its axis comes nearer
+// (a 4.5 mm tube 1 mm off: 3.5 mm) and took the place; the points lie on the run's own CAD surface.
+double mean_cad_distance(const TubeTrace& run, const std::vector<Eigen::Vector3f>& cloud, const SurfaceIndex& index) {
   double sum = 0;
   std::size_t n = 0;
-  for (const SubCable& s : run.segments)
-    for (const Eigen::Vector3d& p : {s.cylinder.start, s.cylinder.end}) {
-      const SurfacePoint q = index.closest(p);
-      if (!q.found()) continue;
-      sum += q.distance_mm;
-      ++n;
-    }
+  const std::size_t stride = std::max<std::size_t>(1, run.points.size() / 256);
+  for (std::size_t k = 0; k < run.points.size(); k += stride) {
+    if (run.points[k] >= cloud.size()) continue;
+    const SurfacePoint q = index.closest(cloud[run.points[k]].cast<double>());
+    if (!q.found()) continue;
+    sum += q.distance_mm;
+    ++n;
+  }
   return n ? sum / double(n) : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
 
-std::size_t drop_runs_on_other_cables(std::vector<CableInspection>& cables, const Scene& scene, std::size_t cloud_size,
-                                      double max_shared_fraction) {
+std::vector<RunOnOtherCable> runs_on_other_cables(const std::vector<CableInspection>& cables, const Scene& scene,
+                                                  const std::vector<Eigen::Vector3f>& cloud, double max_shared_fraction) {
+  const std::size_t cloud_size = cloud.size();
+  std::vector<RunOnOtherCable> out;
   std::vector<RunRef> refs;
   for (std::size_t c = 0; c < cables.size(); ++c)
     for (std::size_t k = 0; k < cables[c].runs.size(); ++k) refs.push_back({c, k});
-  if (refs.size() < 2 || refs.size() >= UINT32_MAX) return 0;
+  if (refs.size() < 2 || refs.size() >= UINT32_MAX) return out;
   // Every (point, run) claim, sorted by point (memory of the runs' points, not of the scan): a point's first run
   // (in cable, run order) is its claimer, and each later run of another cable shares that point with it.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> claims;
@@ -59,27 +66,72 @@ std::size_t drop_runs_on_other_cables(std::vector<CableInspection>& cables, cons
     if (!cad[c]) cad[c] = std::make_unique<SurfaceIndex>(scene, std::vector<int>{cables[c].element});
     return *cad[c];
   };
-  std::vector<std::uint8_t> drop(refs.size(), 0);
-  for (const auto& [pair, count] : shared) {
-    const RunRef& a = refs[pair.first];
-    const RunRef& b = refs[pair.second];
-    const TubeTrace& ra = cables[a.cable].runs[a.run];
-    const TubeTrace& rb = cables[b.cable].runs[b.run];
-    const std::size_t smaller = std::min(ra.points.size(), rb.points.size());
-    if (double(count) <= max_shared_fraction * double(smaller)) continue;
-    if (cables[a.cable].element < 0 || cables[b.cable].element < 0) continue;
-    // the shared stretch is where both runs lie: judge each run's place against both CADs
-    const double a_own = mean_cad_distance(ra, cad_of(a.cable)) + mean_cad_distance(rb, cad_of(a.cable));
-    const double b_own = mean_cad_distance(ra, cad_of(b.cable)) + mean_cad_distance(rb, cad_of(b.cable));
-    drop[a_own <= b_own ? pair.second : pair.first] = 1;
-  }
-  std::size_t dropped = 0;
-  for (std::size_t r = refs.size(); r-- > 0;)
-    if (drop[r]) {
-      std::vector<TubeTrace>& runs = cables[refs[r].cable].runs;
-      runs.erase(runs.begin() + std::ptrdiff_t(refs[r].run));
-      ++dropped;
+  // The share of run x's axis (its sub-cables' ends) inside run y's tube: within the larger radius and half the
+  // smaller of y's axis (touching cables' axes lie both radii apart).
+  const auto inside_share = [](const TubeTrace& x, const TubeTrace& y) {
+    std::size_t in = 0, n = 0;
+    const double reach = std::max(x.radius_mm, y.radius_mm) + 0.5 * std::min(x.radius_mm, y.radius_mm);
+    for (const SubCable& s : x.segments)
+      for (const Eigen::Vector3d& p : {s.cylinder.start, s.cylinder.end}) {
+        ++n;
+        if (distance_to_chain(y, p) <= reach) ++in;
+      }
+    return n ? double(in) / double(n) : 0.0;
+  };
+  for (std::uint32_t i = 0; i < refs.size(); ++i)
+    for (std::uint32_t j = i + 1; j < refs.size(); ++j) {
+      const RunRef& a = refs[i];
+      const RunRef& b = refs[j];
+      if (a.cable == b.cable || cables[a.cable].element < 0 || cables[b.cable].element < 0) continue;
+      const TubeTrace& ra = cables[a.cable].runs[a.run];
+      const TubeTrace& rb = cables[b.cable].runs[b.run];
+      // On the same points (most of the smaller run's), or one inside the other's tube over most of its axis (a run
+      // on the neighbour's stray points beside its surface shares none of its run's points): two cables cannot
+      // lie there both.
+      const auto it = shared.find({i, j});
+      const std::size_t count = it == shared.end() ? 0 : it->second;
+      const std::size_t smaller = std::min(ra.points.size(), rb.points.size());
+      const bool same_points = double(count) > max_shared_fraction * double(smaller);
+      const TubeTrace& shorter = ra.length_mm <= rb.length_mm ? ra : rb;
+      const TubeTrace& longer = ra.length_mm <= rb.length_mm ? rb : ra;
+      if (!same_points && !(inside_share(shorter, longer) > max_shared_fraction)) continue;
+      // Cables of clearly different gauges: the stretch belongs to the one whose plan radius the runs measure.
+      {
+        const double ra_plan = 0.5 * cables[a.cable].nominal_diameter_mm, rb_plan = 0.5 * cables[b.cable].nominal_diameter_mm;
+        const double r_obs = 0.5 * (ra.radius_mm + rb.radius_mm);
+        if (ra_plan > 0 && rb_plan > 0 && std::abs(ra_plan / rb_plan - 1.0) > 0.05) {
+          const bool a_fits = std::abs(r_obs / ra_plan - 1.0) < std::abs(r_obs / rb_plan - 1.0);
+          if (a_fits)
+            out.push_back({b.cable, b.run, a.cable, a.run});
+          else
+            out.push_back({a.cable, a.run, b.cable, b.run});
+          continue;
+        }
+      }
+      // the shared stretch is where both runs lie: judge each run's place against both CADs
+      const double a_own = mean_cad_distance(ra, cloud, cad_of(a.cable)) + mean_cad_distance(rb, cloud, cad_of(a.cable));
+      const double b_own = mean_cad_distance(ra, cloud, cad_of(b.cable)) + mean_cad_distance(rb, cloud, cad_of(b.cable));
+      if (a_own <= b_own)
+        out.push_back({b.cable, b.run, a.cable, a.run});
+      else
+        out.push_back({a.cable, a.run, b.cable, b.run});
     }
+  return out;
+}
+
+std::size_t drop_runs_on_other_cables(std::vector<CableInspection>& cables, const Scene& scene,
+                                      const std::vector<Eigen::Vector3f>& cloud, double max_shared_fraction) {
+  std::vector<std::vector<std::uint8_t>> drop(cables.size());
+  for (std::size_t c = 0; c < cables.size(); ++c) drop[c].assign(cables[c].runs.size(), 0);
+  for (const RunOnOtherCable& o : runs_on_other_cables(cables, scene, cloud, max_shared_fraction))
+    drop[o.cable][o.run] = 1;
+  std::size_t dropped = 0;
+  for (std::size_t c = 0; c < cables.size(); ++c)
+    for (std::size_t k = cables[c].runs.size(); k-- > 0;)
+      if (drop[c][k]) {
+        cables[c].runs.erase(cables[c].runs.begin() + std::ptrdiff_t(k));
+        ++dropped;
+      }
   return dropped;
 }
 

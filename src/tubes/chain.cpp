@@ -112,6 +112,17 @@ double polyline_length(const std::vector<Eigen::Vector3d>& polyline) {
   return len;
 }
 
+double run_support(const TubeTrace& trace, const Eigen::Vector3d& sensor, double resolution_mm) {
+  double shown_mm2 = 0.0;
+  for (const SubCable& s : trace.segments) {
+    if (s.bridged) continue;
+    const Eigen::Vector3d ray = (sensor - 0.5 * (s.cylinder.start + s.cylinder.end)).normalized();
+    shown_mm2 += 2.0 * trace.radius_mm * s.cylinder.axis().cross(ray).norm() * s.cylinder.length_mm();
+  }
+  const double expected = shown_mm2 / (resolution_mm * resolution_mm);
+  return expected > 0 ? double(trace.points.size()) / expected : 0.0;
+}
+
 double distance_to_chain(const TubeTrace& trace, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const SubCable& s : trace.segments) best = std::min(best, distance_to_segment(s.cylinder, p));

@@ -37,6 +37,14 @@ Scene two_cables() {
   return s;
 }
 
+// The scan points: [0, 1000) on A's top at y = 4 (its as-built course), the rest on C's top at y = 17, spread along x.
+std::vector<Eigen::Vector3f> scan_points() {
+  std::vector<Eigen::Vector3f> p(3000);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    p[i] = Eigen::Vector3f(-190.0f + 380.0f * float(i % 1000) / 1000.0f, i < 1000 ? 4.0f : 17.0f, 4.8f);
+  return p;
+}
+
 std::vector<CableInspection> cables_with(std::vector<TubeTrace> a_runs, std::vector<TubeTrace> c_runs) {
   std::vector<CableInspection> v(2);
   v[0].name = "cable_A";
@@ -61,7 +69,7 @@ TEST(RunConflicts, ARunOnTheNeighbourIsDropped) {
     auto cables = cables_with({run({0, 4, 0}, {190, 4, 0}, 0, 900),          // A itself
                                run({0, 17.3, 0}, {-160, 17.2, 0}, 1050, 700)},  // on C, C's points
                               c_runs);
-    EXPECT_EQ(drop_runs_on_other_cables(cables, scene, 3000), 1u);
+    EXPECT_EQ(drop_runs_on_other_cables(cables, scene, scan_points()), 1u);
     ASSERT_EQ(cables[0].runs.size(), 1u);
     EXPECT_EQ(cables[0].runs[0].points.front(), 0u);
     EXPECT_EQ(cables[1].runs.size(), c_runs.size());
@@ -73,7 +81,7 @@ TEST(RunConflicts, ARunOnTheNeighbourIsDropped) {
 TEST(RunConflicts, TouchingCablesKeepTheirRuns) {
   const Scene scene = two_cables();
   auto cables = cables_with({run({-190, 4, 0}, {190, 4, 0}, 0, 1000)}, {run({-190, 17, 0}, {190, 17, 0}, 900, 1000)});
-  EXPECT_EQ(drop_runs_on_other_cables(cables, scene, 3000), 0u);
+  EXPECT_EQ(drop_runs_on_other_cables(cables, scene, scan_points()), 0u);
   EXPECT_EQ(cables[0].runs.size(), 1u);
   EXPECT_EQ(cables[1].runs.size(), 1u);
 }

@@ -430,3 +430,38 @@ TEST(TraceCable, StartsFromTheRegisteredCadPoints) {
 }
 
 }  // namespace
+
+// run_support: a trace on a tube seen whole holds about the points the tube shows (its width seen over the resolution
+// squared, per mm across the rays); the same chain holding a tenth of them (a trace on stray points) reads a tenth.
+TEST(TraceTube, RunSupportCountsThePointsATubeShows) {
+  for (const double r : {2.5, 4.5}) {
+    const Vector3d dir = Vector3d(1, 0.3, 0.2).normalized();
+    const Vector3d mid(5, -10, 600);
+    const auto truth = synth::line(mid - dir * 75, mid + dir * 75);
+    synth::Scene scene;
+    scene.add_tube(truth, r, 0);
+    const synth::Scan scan = synth::render(scene);
+    const ewis::KdTree tree(scan.cloud.points);
+    const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(mid, r), {});
+    ASSERT_TRUE(t.found) << "r " << r;
+    // the resolution: the median distance from a point on the tube to its nearest neighbour
+    std::vector<double> nn;
+    std::vector<ewis::Neighbor> two;
+    for (std::uint32_t i : t.points) {
+      tree.knn(scan.cloud.points[i], 2, two);
+      if (two.size() == 2) nn.push_back(std::sqrt(double(two[1].distance_sq)));
+    }
+    ASSERT_FALSE(nn.empty());
+    std::nth_element(nn.begin(), nn.begin() + nn.size() / 2, nn.end());
+    const double res = nn[nn.size() / 2];
+    const double whole = ewis::run_support(t, Vector3d::Zero(), res);
+    EXPECT_GT(whole, 0.6) << "r " << r;
+    EXPECT_LT(whole, 1.7) << "r " << r;
+    ewis::TubeTrace sparse = t;
+    sparse.points.clear();
+    for (std::size_t k = 0; k < t.points.size(); k += 10) sparse.points.push_back(t.points[k]);
+    EXPECT_NEAR(ewis::run_support(sparse, Vector3d::Zero(), res), whole / 10, 0.01 * whole) << "r " << r;
+    // the same points judged from a sensor looking along the tube: it would show far fewer, so they read far more
+    EXPECT_GT(ewis::run_support(t, mid + dir * 1000.0, res), 10.0 * whole) << "r " << r;
+  }
+}

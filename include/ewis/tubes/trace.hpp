@@ -99,6 +99,12 @@ double distance_to_chain(const TubeTrace& trace, const Eigen::Vector3d& p);
 // within `tolerance_mm` of the traced chain: the coverage of the measured cable relative to the CAD one.
 double chain_coverage(const TubeTrace& trace, const std::vector<Eigen::Vector3d>& reference, double tolerance_mm);
 
+// How many scan points the trace holds for its length, relative to what a tube of its radius shows a sensor at
+// `sensor` (same frame) whose points lie resolution_mm apart: each sub-cable's (bridged ones left out) seen width 2 r
+// times its length across the ray to the sensor, over resolution_mm squared. About 1 on a tube seen whole; well below
+// on a trace walked along stray points. 0 when nothing is expected.
+double run_support(const TubeTrace& trace, const Eigen::Vector3d& sensor, double resolution_mm);
+
 // Length of a polyline.
 double polyline_length(const std::vector<Eigen::Vector3d>& polyline);
 
