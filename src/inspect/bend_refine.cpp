@@ -147,6 +147,28 @@ bool arc_goes_on_past_leg(const std::vector<Eigen::Vector3d>& centerline, const 
   return circle_sq < line_sq;
 }
 
+std::vector<std::uint8_t> arcs_cut_by_their_windows(const std::vector<FittedArc>& arcs, double run_length_mm,
+                                                    double seen_mm) {
+  const auto whole = [&](const FittedArc& a) {
+    return a.arc_start_mm - a.window_start_mm >= seen_mm && a.window_end_mm - a.arc_end_mm >= seen_mm;
+  };
+  const double eps = 1e-9;
+  std::vector<std::uint8_t> cut(arcs.size(), 0);
+  for (std::size_t k = 0; k < arcs.size(); ++k) {
+    const FittedArc& a = arcs[k];
+    double ends[2];
+    int n = 0;
+    if (a.arc_start_mm - a.window_start_mm < seen_mm && a.window_start_mm > eps) ends[n++] = a.arc_start_mm;
+    if (a.window_end_mm - a.arc_end_mm < seen_mm && a.window_end_mm < run_length_mm - eps) ends[n++] = a.arc_end_mm;
+    for (int e = 0; e < n && !cut[k]; ++e)
+      for (std::size_t j = 0; j < arcs.size() && !cut[k]; ++j)
+        if (j != k && whole(arcs[j]) && arcs[j].radius_se_mm <= a.radius_se_mm && ends[e] > arcs[j].arc_start_mm &&
+            ends[e] < arcs[j].arc_end_mm)
+          cut[k] = 1;
+  }
+  return cut;
+}
+
 int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::Vector3d>& centerline,
                               const std::vector<Eigen::Vector3d>& surface_points, double tube_radius_mm,
                               double diameter_mm, const FilletRefineParams& params, const FilletScan& scan) {
@@ -706,6 +728,26 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         o.explained = ratio < params.explained_min_log_likelihood_ratio;
       }
     }, 1);
+  }
+
+  // A fillet whose window cut its bend, which another candidate's fillet holds whole, is left out of the choice
+  // (FilletRefineParams::cut_arcs_held_elsewhere; judged on the fillets as they stand, before any is left out).
+  if (params.cut_arcs_held_elsewhere) {
+    std::vector<FittedArc> arcs;
+    std::vector<std::size_t> of;  // the candidate of each arc
+    for (std::size_t k = 0; k < cands.size(); ++k) {
+      const Outcome& o = outcomes[k];
+      if (!fillet_reading(o)) continue;
+      const auto [p1, p2] = fillet_tangent_points(o.fit.model);
+      const double t1 = arc_of(p1), t2 = arc_of(p2);
+      if (t1 < 0 || t2 < 0) continue;
+      arcs.push_back({std::min(t1, t2), std::max(t1, t2), o.s0, o.s1, o.fit.bend_radius_se_mm});
+      of.push_back(k);
+    }
+    const std::vector<std::uint8_t> cut =
+        arcs_cut_by_their_windows(arcs, total, params.min_seen_leg_diameters * diameter_mm);
+    for (std::size_t i = 0; i < arcs.size(); ++i)
+      if (cut[i]) outcomes[of[i]].explained = true;
   }
 
   // A circle figure (a candidate no fit re-measured) at a run's end, on another candidate's fillet arc, reads that

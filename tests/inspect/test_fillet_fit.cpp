@@ -348,7 +348,10 @@ TEST(FilletRefine, AnArcsEndIsNoTighterBend) {
   const int draws = 30;
   for (const bool rule : {true, false}) {
     FilletRefineParams params;
-    if (!rule) params.explained_min_log_likelihood_ratio = 0;
+    if (!rule) {
+      params.explained_min_log_likelihood_ratio = 0;
+      params.cut_arcs_held_elsewhere = false;  // alone, it leaves a spread of 0.15 mm here
+    }
     double sum = 0, sum2 = 0;
     for (std::uint32_t seed = 1; seed <= draws; ++seed) {
       const std::vector<Eigen::Vector3d> surface = test::tube_surface(t.points, r, 0.8, seed);
@@ -517,4 +520,33 @@ TEST(FilletRefine, ACircleFigureOnAFilletsArcIsNoBendOfItsOwn) {
     }
     EXPECT_EQ(circles > 0, !rule) << circles << " circle figures";
   }
+}
+
+// The rule of FilletRefineParams::cut_arcs_held_elsewhere, on the arcs of campaign scene_069's cable_B (a 3.4 mm cable,
+// seen = 1.7 mm): a corner window [174, 242.5] whose fit ended its arc at 242.2, inside the arc [229.2, 249.1] that
+// the window [218, 261.4] holds whole, is cut; the whole one is not.
+TEST(FilletRefine, AnArcItsWindowCutIsLeftToTheWindowHoldingItWhole) {
+  const double seen = 1.7, run = 480.0;
+  const FittedArc cut_one{230.0, 242.2, 174.0, 242.5, 1.18}, whole{229.2, 249.1, 218.0, 261.4, 0.48};
+  EXPECT_EQ(arcs_cut_by_their_windows({cut_one, whole}, run, seen), (std::vector<std::uint8_t>{1, 0}));
+  EXPECT_EQ(arcs_cut_by_their_windows({whole, cut_one}, run, seen), (std::vector<std::uint8_t>{0, 1}));
+  // cut at its start instead (the window [240.3, 300] starting 0.5 mm before the arc's start at 240.8)
+  EXPECT_EQ(arcs_cut_by_their_windows({{240.8, 255.0, 240.3, 300.0, 1.0}, whole}, run, seen),
+            (std::vector<std::uint8_t>{1, 0}));
+  // alone, nothing holds the bend whole: kept (the leg test judges it)
+  EXPECT_EQ(arcs_cut_by_their_windows({cut_one}, run, seen), (std::vector<std::uint8_t>{0}));
+  // the window ends with the run: the arc runs to the cable's end, not into a window's cut
+  EXPECT_EQ(arcs_cut_by_their_windows({cut_one, whole}, 242.5, seen), (std::vector<std::uint8_t>{0, 0}));
+  // a leg of at least `seen` in the window: not cut
+  EXPECT_EQ(arcs_cut_by_their_windows({{230.0, 240.5, 174.0, 242.5, 1.18}, whole}, run, seen),
+            (std::vector<std::uint8_t>{0, 0}));
+  // the other's window shows too little leg on one side (it is cut itself): it holds nothing whole
+  const FittedArc short_leg{229.2, 249.1, 228.0, 261.4, 0.48};
+  EXPECT_EQ(arcs_cut_by_their_windows({cut_one, short_leg}, run, seen), (std::vector<std::uint8_t>{0, 0}));
+  // the other known less well (a window over the arc's end, its "legs" on the arc): it holds nothing whole
+  const FittedArc vague{229.2, 249.1, 218.0, 261.4, 1.5};
+  EXPECT_EQ(arcs_cut_by_their_windows({cut_one, vague}, run, seen), (std::vector<std::uint8_t>{0, 0}));
+  // the cut end outside the other arc (a bend of its own beside it): not cut
+  EXPECT_EQ(arcs_cut_by_their_windows({{200.0, 228.0, 174.0, 228.5, 1.18}, whole}, run, seen),
+            (std::vector<std::uint8_t>{0, 0}));
 }

@@ -155,6 +155,16 @@ struct FilletRefineParams {
   // of a refused candidate read N scene_050's 88 mm arc's onset as 80.1 (the quartic's overshoot at a curvature step).
   double min_seen_leg_diameters = 0.5;
   double min_seen_leg_reach_diameters = 3.0;
+  // That test judges the continuation on the centreline alone, which a thin cable's short arc does not settle: a
+  // window centred 36 mm before a 40 deg, 28.7 mm arc of a 3.4 mm cable (campaign scene_069, a corner candidate where
+  // the circle windows read straight) ended 7 mm into the arc; its fit laid its arc over the arc's first 12 mm with a
+  // 0.3 mm leg and read 24.34 +- 1.18, and the centreline over 3 d past it strayed 0.30 mm from a line (limit 0.64)
+  // and lay nearer the leg's line than the fit's circle. So also: a fillet whose arc ends within
+  // min_seen_leg_diameters of a window end that is not the run's end, at a point inside the arc of another
+  // candidate's fillet whose both legs are seen in its window and whose radius is known at least as well, is left
+  // out of the choice: its window cut that bend,
+  // the other's holds it whole (there 28.86 +- 0.48 for 28.75). See arcs_cut_by_their_windows. False: off.
+  bool cut_arcs_held_elsewhere = true;
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
   double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error) ...
   double max_se_fraction_vs_circle = 0.5;  // ... or to this one when it lies over 2 standard errors below the
@@ -348,6 +358,22 @@ struct FilletScan {
 bool arc_goes_on_past_leg(const std::vector<Eigen::Vector3d>& centerline, const std::vector<double>& arc_mm,
                           double a_mm, double b_mm, const Eigen::Vector3d& tangent, const Eigen::Vector3d& leg,
                           const Eigen::Vector3d& other_tangent, double bend_radius_mm);
+
+// A fillet fitted over a window of the centreline: where its arc and the window lie (arc lengths along the
+// centreline, mm).
+struct FittedArc {
+  double arc_start_mm = 0.0, arc_end_mm = 0.0;        // the arc's tangent points (start <= end)
+  double window_start_mm = 0.0, window_end_mm = 0.0;  // the window it was fitted over
+  double radius_se_mm = 0.0;                          // the standard error of its bend radius
+};
+
+// Which fitted arcs their window cut (FilletRefineParams::cut_arcs_held_elsewhere): an arc ending less than
+// `seen_mm` before an end of its window that is not an end of the run ([0, run_length_mm]), at a point strictly
+// inside another arc whose window shows at least `seen_mm` of leg on both sides and whose radius is known at least as
+// well (a window over a long arc's last stretch shows "legs" on the arc itself, and reads it less precisely than the
+// whole arc's window, whose leg may be short). One flag per arc (1: cut).
+std::vector<std::uint8_t> arcs_cut_by_their_windows(const std::vector<FittedArc>& arcs, double run_length_mm,
+                                                    double seen_mm);
 
 // Re-measures the tightest bends of `bend` (measure_bend_radius on `centerline`) with fillet fits to the cable's
 // surface points, and replaces its minimum when a fit says the bend is tighter or looser than the circle
