@@ -603,10 +603,15 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       }
     }
     const double R = sf.bend_radius_mm, se = sf.bend_radius_se_mm;
+    // Its peak away from the run's ends (FilletRefineParams::smooth_min_end_diameters).
+    const double peak_arc = arc_of(sf.peak_point);
+    const double end_reach = params.smooth_min_end_diameters * diameter_mm;
+    const bool away_from_ends = peak_arc >= end_reach && peak_arc <= total - end_reach;
     const bool smooth_usable = R <= 100.0 * diameter_mm && R >= sf.model.tube_radius_mm &&
                                se <= params.max_se_fraction * R &&
                                std::abs(sf.model.tube_radius_mm - tube_radius_mm) <=
-                                   params.smooth_tube_radius_tolerance * tube_radius_mm;
+                                   params.smooth_tube_radius_tolerance * tube_radius_mm &&
+                               away_from_ends;
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
     const std::vector<Eigen::Vector3d> over = over_chord(pts, sf.model);
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&

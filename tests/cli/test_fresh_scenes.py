@@ -46,6 +46,44 @@ class FreshScenes(unittest.TestCase):
         self.assertAlmostEqual(a["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
         self.assertTrue(a["bend_ok"])
 
+    def test_a_cable_moved_onto_its_neighbours_place_is_traced_on_its_own_points(self):
+        # Seed 9999's scene_057 (J60). cable_A moved 10-15 mm off its CAD toward bracket_1 by a clearance defect,
+        # cable_C lying along A's CAD: A's first trace took C, the untangling split C's points between the two, A was
+        # never traced on its own and its 0.08 mm gap to the bracket was missed (the verdict "fail" only through a
+        # false A-C contact). Conflicting runs are judged before the untangling, the owner by the plan's diameters.
+        truth, report = simulate_and_inspect("fresh_j057", 5331431243244478551, "--defect", "clearance",
+                                             "--clearance-with", "bracket")
+        t = next(c for c in truth["cables"] if c["name"] == "cable_A")
+        a = element(report, "cable_A")
+        self.assertTrue(a["found"])
+        # 488.8 of 558.9 mm (clamps and connectors hide the rest); before, 350.8 (its runs on C's leftovers)
+        self.assertGreaterEqual(a["length_mm"], 0.8 * t["length_mm"])
+        self.assertLessEqual(a["length_mm"], 1.02 * t["length_mm"])
+        gap = next(d["gap_mm"] for d in truth["defects"] if d["element"] == "cable_A")
+        near = [i for i in a["interferences"] if i["with"] == "bracket_1"]
+        self.assertEqual(len(near), 1)
+        self.assertAlmostEqual(near[0]["min_distance_mm"], gap, delta=0.5)
+        self.assertFalse([i for i in a["interferences"] if i["with"] == "cable_C"])
+        self.assertAlmostEqual(a["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+
+    def test_an_arc_its_window_cut_gives_way_to_the_window_holding_it_whole(self):
+        # Seed 2026's scene_069 (the README's campaign). cable_B (3.4 mm): a corner window 36 mm before its 40 deg arc
+        # ended 7 mm into it and read 24.34 +- 1.18 for 28.75 (FilletRefineParams::cut_arcs_held_elsewhere).
+        truth, report = simulate_and_inspect("fresh_c069", 16600345389652871043, "--defect", "clearance",
+                                             "--clearance-with", "cable")
+        t = next(c for c in truth["cables"] if c["name"] == "cable_B")
+        b = element(report, "cable_B")
+        self.assertAlmostEqual(b["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+
+    def test_a_smooth_tubes_peak_at_a_runs_end_is_no_bend(self):
+        # Seed 7777's scene_052 (H60). A 10.9 mm cable's run starts where it leaves its connector, on a helix: the
+        # smooth tube over the run's first 28 mm read a peak of 27.48 +- 0.39 mm 7 mm from the run's start, for a
+        # cable whose tightest bend is 41.05 mm (FilletRefineParams::smooth_min_end_diameters).
+        truth, report = simulate_and_inspect("fresh_h052", 12579878884279486141)
+        t = next(c for c in truth["cables"] if c["name"] == "cable_A")
+        a = element(report, "cable_A")
+        self.assertAlmostEqual(a["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -256,6 +256,14 @@ struct FilletRefineParams {
   // wider tube holds points of something else (campaign scene_113: a run's end by a connector, 7.35 for 6.75 mm,
   // read a 71.3 mm helix at 64.4 mm)
   double smooth_tube_radius_tolerance = 0.05;
+  // ... and only when its peak lies at least smooth_min_end_diameters from the run's start and end (along the
+  // centreline): the chain's last joints and the surface there are the least reliable (a run ends where the cable
+  // enters a connector or clamp, or something hides it), and the quartic, free at a window's clipped end, turns
+  // that into a peak (H60 scene_052: a 10.9 mm cable's helix read 27.48 +- 0.39 at 0.7 d from its run's start,
+  // where the arc's fillet reads 46.3; with this rule the cable reads 41.2 for its tightest bend, 41.05). On the nine
+  // sets evaluated only one other reading moved: S25x scene_016's cable_B, whose two smooth readings near its run's
+  // start were both imprecise (116.51 +- 6.96 at 0.95 d, taken before; 123.35 +- 5.19 at 1.1 d; truth 115.90).
+  double smooth_min_end_diameters = 1.0;
   // ... and, where the fillet refitted as a helix (FilletModel::tilt_rad free) on the same points fits about as well
   // as the smooth tube (likelihood ratio under smooth_tilted_max_log_likelihood_ratio: the quartic has one parameter
   // more, so a helical bend gives about 1), only where the curvature varies as the helices read it: the helix on the
