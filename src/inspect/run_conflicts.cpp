@@ -1,6 +1,8 @@
 // Runs of two cables on the same scan points (see run_conflicts.hpp).
 #include "ewis/inspect/run_conflicts.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cstdint>
 #include <map>
@@ -68,13 +70,18 @@ std::vector<RunOnOtherCable> runs_on_other_cables(const std::vector<CableInspect
   };
   // The share of run x's axis (its sub-cables' ends) inside run y's tube: within the larger radius and half the
   // smaller of y's axis (touching cables' axes lie both radii apart).
+  // (y's axis box grown by that reach first: runs far apart cost one box test per end, not a walk of y's chain)
   const auto inside_share = [](const TubeTrace& x, const TubeTrace& y) {
     std::size_t in = 0, n = 0;
     const double reach = std::max(x.radius_mm, y.radius_mm) + 0.5 * std::min(x.radius_mm, y.radius_mm);
+    Eigen::AlignedBox3d box;
+    for (const SubCable& s : y.segments) box.extend(s.cylinder.start).extend(s.cylinder.end);
+    box.min().array() -= reach;
+    box.max().array() += reach;
     for (const SubCable& s : x.segments)
       for (const Eigen::Vector3d& p : {s.cylinder.start, s.cylinder.end}) {
         ++n;
-        if (distance_to_chain(y, p) <= reach) ++in;
+        if (box.contains(p) && distance_to_chain(y, p) <= reach) ++in;
       }
     return n ? double(in) / double(n) : 0.0;
   };

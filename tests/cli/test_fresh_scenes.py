@@ -31,7 +31,15 @@ def element(report, name):
     return next(e for e in report["elements"] if e["name"] == name)
 
 
+def truth_and_report_cable(truth, report, name):
+    return next(c for c in truth["cables"] if c["name"] == name), element(report, name)
+
+
 class FreshScenes(unittest.TestCase):
+    def assert_bend_within_5_percent(self, measured, truth_cable):
+        truth_mm = truth_cable["min_bend_radius_mm"]
+        self.assertAlmostEqual(measured["min_bend_radius_mm"], truth_mm, delta=0.05 * truth_mm)
+
     def test_no_tube_is_traced_in_the_mixed_points_behind_a_cable(self):
         # Seed 5151's scene_037. A 6.4 mm cable ~35 mm over a structure: the mixed pixels under it form sheets along
         # the rays. A later run of its trace (the cable's own points taken) fitted a tube between them 8 mm behind
@@ -39,11 +47,10 @@ class FreshScenes(unittest.TestCase):
         # points such a tube hides do not excuse it (TubeParams::hidden_check asks that the tube be in front).
         truth, report = simulate_and_inspect("fresh037", 6328988860928790600, "--defect", "clearance",
                                              "--clearance-with", "bracket")
-        t = next(c for c in truth["cables"] if c["name"] == "cable_A")
-        a = element(report, "cable_A")
+        t, a = truth_and_report_cable(truth, report, "cable_A")
         self.assertTrue(a["found"])
         self.assertLessEqual(a["length_mm"], 1.02 * t["length_mm"])
-        self.assertAlmostEqual(a["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+        self.assert_bend_within_5_percent(a, t)
         self.assertTrue(a["bend_ok"])
 
     def test_a_cable_moved_onto_its_neighbours_place_is_traced_on_its_own_points(self):
@@ -53,8 +60,7 @@ class FreshScenes(unittest.TestCase):
         # false A-C contact). Conflicting runs are judged before the untangling, the owner by the plan's diameters.
         truth, report = simulate_and_inspect("fresh_j057", 5331431243244478551, "--defect", "clearance",
                                              "--clearance-with", "bracket")
-        t = next(c for c in truth["cables"] if c["name"] == "cable_A")
-        a = element(report, "cable_A")
+        t, a = truth_and_report_cable(truth, report, "cable_A")
         self.assertTrue(a["found"])
         # 488.8 of 558.9 mm (clamps and connectors hide the rest); before, 350.8 (its runs on C's leftovers)
         self.assertGreaterEqual(a["length_mm"], 0.8 * t["length_mm"])
@@ -64,25 +70,23 @@ class FreshScenes(unittest.TestCase):
         self.assertEqual(len(near), 1)
         self.assertAlmostEqual(near[0]["min_distance_mm"], gap, delta=0.5)
         self.assertFalse([i for i in a["interferences"] if i["with"] == "cable_C"])
-        self.assertAlmostEqual(a["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+        self.assert_bend_within_5_percent(a, t)
 
     def test_an_arc_its_window_cut_gives_way_to_the_window_holding_it_whole(self):
         # Seed 2026's scene_069 (the README's campaign). cable_B (3.4 mm): a corner window 36 mm before its 40 deg arc
         # ended 7 mm into it and read 24.34 +- 1.18 for 28.75 (FilletRefineParams::cut_arcs_held_elsewhere).
         truth, report = simulate_and_inspect("fresh_c069", 16600345389652871043, "--defect", "clearance",
                                              "--clearance-with", "cable")
-        t = next(c for c in truth["cables"] if c["name"] == "cable_B")
-        b = element(report, "cable_B")
-        self.assertAlmostEqual(b["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+        t, b = truth_and_report_cable(truth, report, "cable_B")
+        self.assert_bend_within_5_percent(b, t)
 
     def test_a_smooth_tubes_peak_at_a_runs_end_is_no_bend(self):
         # Seed 7777's scene_052 (H60). A 10.9 mm cable's run starts where it leaves its connector, on a helix: the
         # smooth tube over the run's first 28 mm read a peak of 27.48 +- 0.39 mm 7 mm from the run's start, for a
         # cable whose tightest bend is 41.05 mm (FilletRefineParams::smooth_min_end_diameters).
         truth, report = simulate_and_inspect("fresh_h052", 12579878884279486141)
-        t = next(c for c in truth["cables"] if c["name"] == "cable_A")
-        a = element(report, "cable_A")
-        self.assertAlmostEqual(a["min_bend_radius_mm"], t["min_bend_radius_mm"], delta=0.05 * t["min_bend_radius_mm"])
+        t, a = truth_and_report_cable(truth, report, "cable_A")
+        self.assert_bend_within_5_percent(a, t)
 
 
 if __name__ == "__main__":

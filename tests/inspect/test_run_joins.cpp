@@ -12,6 +12,7 @@
 #include "ewis/sim/sensor.hpp"
 #include "ewis/tubes/trace.hpp"
 #include "paths.hpp"
+#include "plan_rules.hpp"
 
 using namespace ewis;
 
@@ -49,15 +50,7 @@ Crossing make_crossing(std::uint64_t seed) {
   add_element(c.scene, "cable_B", mb.vertices, mb.triangles);
   const Mesh plate = make_box({-250, -200, -5}, {250, 200, 0});
   add_element(c.scene, "plate", plate.vertices, plate.triangles);
-  for (const auto& [name, d] : {std::pair{"cable_A", 5.5}, std::pair{"cable_B", 9.8}}) {
-    PlanElement e;
-    e.name = name;
-    e.kind = ElementKind::Cable;
-    e.diameter_mm = d;
-    e.min_bend_radius_mm = 15.0;
-    e.clearance_mm = 2.0;
-    c.plan.elements.push_back(e);
-  }
+  c.plan.elements = {test::cable_rule("cable_A", 5.5, 15.0, 2.0), test::cable_rule("cable_B", 9.8, 15.0, 2.0)};
   c.camera_to_cad = look_at({20, 10, 620}, {0, 0, 25}, Eigen::Vector3d::UnitY());
   const Raycaster caster(c.scene);
   sim::SensorParams sp;

@@ -18,6 +18,7 @@
 #include "ewis/scene/primitives.hpp"
 #include "ewis/sim/sensor.hpp"
 #include "paths.hpp"
+#include "plan_rules.hpp"
 
 using namespace ewis;
 
@@ -49,13 +50,7 @@ Bend make_bend(const std::vector<Eigen::Vector3d>& axis, double r, std::uint64_t
   add_element(b.scene, "cable_A", tube.vertices, tube.triangles);
   const Mesh plate = make_box({-300, -250, -5}, {300, 250, 0});
   add_element(b.scene, "plate", plate.vertices, plate.triangles);
-  PlanElement e;
-  e.name = "cable_A";
-  e.kind = ElementKind::Cable;
-  e.diameter_mm = 2 * r;
-  e.min_bend_radius_mm = 40.0;
-  e.clearance_mm = 3.0;
-  b.plan.elements.push_back(e);
+  b.plan.elements.push_back(test::cable_rule("cable_A", 2 * r, 40.0, 3.0));
   b.camera_to_cad = look_at({-150, 120, 600}, {-60, 0, 30}, Eigen::Vector3d(0.3, 1, 0).normalized());
   const Raycaster caster(b.scene);
   sim::SensorParams sp;

@@ -11,6 +11,7 @@
 #include "ewis/sim/sensor.hpp"
 #include "ewis/tubes/trace.hpp"
 #include "paths.hpp"
+#include "plan_rules.hpp"
 
 using namespace ewis;
 
@@ -50,15 +51,7 @@ Bundle make_bundle(double gap_mm, std::uint64_t seed) {
   add_element(b.scene, "cable_B", mb.vertices, mb.triangles);
   const Mesh plate = make_box({-250, -200, -5}, {250, 200, 0});
   add_element(b.scene, "plate", plate.vertices, plate.triangles);
-  for (const auto& [name, d] : {std::pair{"cable_A", 2 * ra}, std::pair{"cable_B", 2 * rb}}) {
-    PlanElement e;
-    e.name = name;
-    e.kind = ElementKind::Cable;
-    e.diameter_mm = d;
-    e.min_bend_radius_mm = 40.0;
-    e.clearance_mm = 3.0;
-    b.plan.elements.push_back(e);
-  }
+  b.plan.elements = {test::cable_rule("cable_A", 2 * ra, 40.0, 3.0), test::cable_rule("cable_B", 2 * rb, 40.0, 3.0)};
   b.camera_to_cad = look_at({30, 10, 620}, {0, 0, 25}, Eigen::Vector3d::UnitY());
   const Raycaster caster(b.scene);
   sim::SensorParams sp;
@@ -150,15 +143,7 @@ Displaced make_displaced(std::uint64_t seed) {
   }
   add_element(built, "cable_A", a.vertices, a.triangles);
   add_element(d.cad, "cable_A", a_cad.vertices, a_cad.triangles);
-  for (const auto& [name, diameter] : {std::pair{"cable_C", 10.0}, std::pair{"cable_A", 9.0}}) {
-    PlanElement e;
-    e.name = name;
-    e.kind = ElementKind::Cable;
-    e.diameter_mm = diameter;
-    e.min_bend_radius_mm = 40.0;
-    e.clearance_mm = 2.0;
-    d.plan.elements.push_back(e);
-  }
+  d.plan.elements = {test::cable_rule("cable_C", 10.0, 40.0, 2.0), test::cable_rule("cable_A", 9.0, 40.0, 2.0)};
   d.camera_to_cad = look_at({30, 40, 620}, {0, 0, 25}, Eigen::Vector3d::UnitY());
   const Raycaster caster(built);
   sim::SensorParams sp;

@@ -6,6 +6,7 @@
 #include <iterator>
 #include <cstdlib>
 
+#include "ewis/filter/resolution.hpp"
 #include "ewis/search/kdtree.hpp"
 #include "ewis/tubes/trace.hpp"
 #include "tubes/synthetic_scan.hpp"
@@ -50,15 +51,21 @@ void print(const char* name, const ewis::TubeTrace& t, const Metrics& m, const s
               t.segments.size(), t.gaps.size(), t.points.size(), t.end_reason_front.c_str(), t.end_reason_back.c_str());
 }
 
-// A straight oblique tube 600 mm from the sensor (at the origin), traced from a seed on its seen side: the
-// issue's goals for diameter, centreline and coverage.
-void check_straight_tube(double r, const ewis::TubeParams& params, const char* name) {
-  const Vector3d dir = Vector3d(1, 0.3, 0.2).normalized();
-  const Vector3d mid(5, -10, 600);
-  const auto truth = synth::line(mid - dir * 75, mid + dir * 75);
+// A straight oblique tube of radius r, 150 mm long, its middle 600 mm from the sensor (at the origin).
+const Vector3d kObliqueDir = Vector3d(1, 0.3, 0.2).normalized();
+const Vector3d kObliqueMid(5, -10, 600);
+std::vector<Vector3d> oblique_axis() { return synth::line(kObliqueMid - kObliqueDir * 75, kObliqueMid + kObliqueDir * 75); }
+synth::Scan oblique_tube_scan(double r) {
   synth::Scene scene;
-  scene.add_tube(truth, r, 0);
-  const synth::Scan scan = synth::render(scene);
+  scene.add_tube(oblique_axis(), r, 0);
+  return synth::render(scene);
+}
+
+// That tube traced from a seed on its seen side: the goals for diameter, centreline and coverage.
+void check_straight_tube(double r, const ewis::TubeParams& params, const char* name) {
+  const Vector3d mid = kObliqueMid;
+  const auto truth = oblique_axis();
+  const synth::Scan scan = oblique_tube_scan(r);
   const ewis::KdTree tree(scan.cloud.points);
   const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, mid - mid.normalized() * r, params);
   const Metrics m = measure(t, truth, r);
@@ -435,25 +442,13 @@ TEST(TraceCable, StartsFromTheRegisteredCadPoints) {
 // squared, per mm across the rays); the same chain holding a tenth of them (a trace on stray points) reads a tenth.
 TEST(TraceTube, RunSupportCountsThePointsATubeShows) {
   for (const double r : {2.5, 4.5}) {
-    const Vector3d dir = Vector3d(1, 0.3, 0.2).normalized();
-    const Vector3d mid(5, -10, 600);
-    const auto truth = synth::line(mid - dir * 75, mid + dir * 75);
-    synth::Scene scene;
-    scene.add_tube(truth, r, 0);
-    const synth::Scan scan = synth::render(scene);
+    const synth::Scan scan = oblique_tube_scan(r);
     const ewis::KdTree tree(scan.cloud.points);
-    const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(mid, r), {});
+    const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(kObliqueMid, r), {});
     ASSERT_TRUE(t.found) << "r " << r;
-    // the resolution: the median distance from a point on the tube to its nearest neighbour
-    std::vector<double> nn;
-    std::vector<ewis::Neighbor> two;
-    for (std::uint32_t i : t.points) {
-      tree.knn(scan.cloud.points[i], 2, two);
-      if (two.size() == 2) nn.push_back(std::sqrt(double(two[1].distance_sq)));
-    }
-    ASSERT_FALSE(nn.empty());
-    std::nth_element(nn.begin(), nn.begin() + nn.size() / 2, nn.end());
-    const double res = nn[nn.size() / 2];
+    // the resolution as the pipeline measures it (the median nearest-neighbour distance)
+    const double res = ewis::spatial_resolution(tree).median_mm;
+    ASSERT_GT(res, 0.0);
     const double whole = ewis::run_support(t, Vector3d::Zero(), res);
     EXPECT_GT(whole, 0.6) << "r " << r;
     EXPECT_LT(whole, 1.7) << "r " << r;
@@ -462,6 +457,6 @@ TEST(TraceTube, RunSupportCountsThePointsATubeShows) {
     for (std::size_t k = 0; k < t.points.size(); k += 10) sparse.points.push_back(t.points[k]);
     EXPECT_NEAR(ewis::run_support(sparse, Vector3d::Zero(), res), whole / 10, 0.01 * whole) << "r " << r;
     // the same points judged from a sensor looking along the tube: it would show far fewer, so they read far more
-    EXPECT_GT(ewis::run_support(t, mid + dir * 1000.0, res), 10.0 * whole) << "r " << r;
+    EXPECT_GT(ewis::run_support(t, kObliqueMid + kObliqueDir * 1000.0, res), 10.0 * whole) << "r " << r;
   }
 }
