@@ -208,7 +208,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   res.cables.resize(cable_plans.size());
   // One BVH of the whole scene: which CAD samples the sensor sees (the trace's starts), and later what hides a point
   // from it (interference).
-  const Raycaster caster(scene);
+  res.scene_caster = std::make_shared<const Raycaster>(scene);
+  const Raycaster& caster = *res.scene_caster;
   // Each cable's registered CAD samples, and which of them the sensor sees (the CAD seen from the sensor: nothing,
   // the cable itself included, in front). The seen ones seed first: around a sample on the cable's underside or
   // flank the fullest sphere lies in the mixed pixels hanging below its silhouette or where a touching neighbour

@@ -14,16 +14,21 @@ SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const s
   SplatBuffer buf;
   buf.width_px = camera.width_px;
   buf.height_px = camera.height_px;
-  const std::size_t n_px = std::size_t(std::max(0, buf.width_px)) * std::size_t(std::max(0, buf.height_px));
-  buf.key.assign(n_px, SplatBuffer::kEmpty);
-  if (n_px == 0) return buf;
+  const std::size_t w = std::size_t(std::max(0, buf.width_px)), h = std::size_t(std::max(0, buf.height_px));
+  if (w * h == 0) return buf;
   const Eigen::Matrix3d rot = camera_to_cad.linear().transpose();
   const Eigen::Vector3d tr = -(rot * camera_to_cad.translation());
   const int r = std::clamp(radius_px, 0, 16);
   const int r2 = r * r + r;  // rounder small discs
   const Camera::Projection projection = camera.projection();
-  // Blocks of points at once; each pixel keeps the smallest word splatted there (an atomic minimum: a plain load
-  // first, since most splats land behind what a pixel already holds).
+  // A pixel holds the smallest word of the points whose disc covers it, i.e. the smallest over the disc around it
+  // of the smallest word centred on each pixel: first each point into its centre's pixel (one atomic minimum a
+  // point instead of one per disc pixel; a plain load first, since most land behind what a pixel already holds), in
+  // a frame r pixels wider on each side (discs centred outside the image reach into it), then that minimum over
+  // the disc, pixel by pixel. The same words as splatting every disc.
+  const std::size_t ew = w + 2 * std::size_t(r), eh = h + 2 * std::size_t(r);
+  std::vector<std::uint64_t>& centre = buf.key;  // becomes the image, in place, below
+  centre.assign(ew * eh, SplatBuffer::kEmpty);
   parallel_blocks(points_cad.size(), 1 << 15, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       if (!keep.empty() && !keep[i]) continue;
@@ -33,20 +38,34 @@ SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const s
       const int cx = static_cast<int>(std::floor(u)), cy = static_cast<int>(std::floor(v));
       if (cx < -r || cy < -r || cx >= buf.width_px + r || cy >= buf.height_px + r) continue;
       const std::uint64_t word = SplatBuffer::pack(static_cast<float>(pc.z()), static_cast<std::uint32_t>(i));
-      for (int dy = -r; dy <= r; ++dy) {
-        const int y = cy + dy;
-        if (y < 0 || y >= buf.height_px) continue;
-        for (int dx = -r; dx <= r; ++dx) {
-          const int x = cx + dx;
-          if (x < 0 || x >= buf.width_px || dx * dx + dy * dy > r2) continue;
-          std::atomic_ref<std::uint64_t> pixel(buf.key[std::size_t(y) * buf.width_px + x]);
-          std::uint64_t held = pixel.load(std::memory_order_relaxed);
-          while (word < held && !pixel.compare_exchange_weak(held, word, std::memory_order_relaxed)) {
-          }
-        }
+      std::atomic_ref<std::uint64_t> pixel(centre[std::size_t(cy + r) * ew + std::size_t(cx + r)]);
+      std::uint64_t held = pixel.load(std::memory_order_relaxed);
+      while (word < held && !pixel.compare_exchange_weak(held, word, std::memory_order_relaxed)) {
       }
     }
   });
+  // Image row y takes the frame's rows y .. y + 2r; once done, frame row y is needed by no later image row, so
+  // the image row is written over it (rows in order), then moved to its place in the w-wide image.
+  std::vector<int> half(2 * std::size_t(r) + 1);  // the disc's half-width at each row offset
+  for (int dy = -r; dy <= r; ++dy) {
+    int hw = 0;
+    while ((hw + 1) * (hw + 1) + dy * dy <= r2) ++hw;
+    half[std::size_t(dy + r)] = hw;
+  }
+  std::vector<std::uint64_t> row(w);
+  for (std::size_t y = 0; y < h; ++y) {
+    std::fill(row.begin(), row.end(), SplatBuffer::kEmpty);
+    for (int dy = -r; dy <= r; ++dy) {
+      const std::uint64_t* src = centre.data() + (y + std::size_t(dy + r)) * ew + std::size_t(r);
+      const int hw = half[std::size_t(dy + r)];
+      for (int dx = -hw; dx <= hw; ++dx) {
+        const std::uint64_t* s = src + dx;
+        for (std::size_t x = 0; x < w; ++x) row[x] = std::min(row[x], s[x]);
+      }
+    }
+    std::copy(row.begin(), row.end(), centre.begin() + std::ptrdiff_t(y * w));
+  }
+  centre.resize(w * h);
   return buf;
 }
 

@@ -176,8 +176,8 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
 
   const PointLabels labels = label_points(r);
   // The pictures: the scan, then each defect's pair, each a function of the result alone (the page is the same
-  // for any thread count). The scan's picture first, alone (its full-size buffers and the CAD's ray caster at
-  // once would set the run's peak memory: 52 -> 58 MB on the demo); then the close-ups, in parallel.
+  // for any thread count). The scan's picture first, alone; then the close-ups, in parallel. (A ray caster built
+  // here, when the result holds none, comes after the scan's full-size buffers are gone.)
   const std::vector<DefectView> views = defect_views(r, params.max_closeups);
   const bool render_cad = !views.empty() && params.render_cad && !scene.triangles.empty();
   const std::size_t per_view = render_cad ? 2 : 1;
@@ -185,8 +185,11 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
   img[0] = png_img(splat_scan(r, labels, report_camera(plan, params.scan_image_width_px), r.scan_to_cad),
                    "scan from the registered sensor pose", "scan");
   if (!views.empty()) {
-    std::unique_ptr<Raycaster> caster;
-    if (render_cad) caster = std::make_unique<Raycaster>(scene);
+    // The inspection's own when it is over this scene (the same BVH), else built here.
+    std::shared_ptr<const Raycaster> caster;
+    if (render_cad)
+      caster = r.scene_caster && &r.scene_caster->scene() == &scene ? r.scene_caster
+                                                                    : std::make_shared<const Raycaster>(scene);
     parallel_for_each_index(img.size() - 1, [&](std::size_t k) {
       const std::size_t v = k / per_view;
       const CloseupCamera cam = closeup_camera(r, views[v], params.closeup_width_px, params.closeup_height_px);
