@@ -70,16 +70,31 @@ SplatBuffer splat_points(const std::vector<Eigen::Vector3f>& points_cad, const s
 }
 
 bool depth_range(const SplatBuffer& buf, double& near_mm, double& far_mm) {
-  std::vector<float> d;
-  d.reserve(buf.size() / 4);
+  // The 2nd and 98th percentiles of the covered pixels' depths, exactly (the values nth_element would pick): the
+  // depths are positive floats, whose bit patterns order as they do, so a histogram of their top 16 bits finds the
+  // bucket holding each rank, and only that bucket's values are sorted.
+  constexpr std::size_t kBuckets = std::size_t(1) << 16;
+  std::vector<std::uint32_t> count(kBuckets, 0);
+  std::size_t n = 0;
   for (std::size_t k = 0; k < buf.size(); ++k)
-    if (buf.key[k] != SplatBuffer::kEmpty) d.push_back(buf.depth_mm(k));
-  if (d.empty()) return false;
-  const std::size_t lo = d.size() / 50, hi = d.size() - 1 - d.size() / 50;
-  std::nth_element(d.begin(), d.begin() + lo, d.end());
-  near_mm = d[lo];
-  std::nth_element(d.begin(), d.begin() + hi, d.end());
-  far_mm = d[hi];
+    if (buf.key[k] != SplatBuffer::kEmpty) {
+      ++count[buf.key[k] >> 48];
+      ++n;
+    }
+  if (n == 0) return false;
+  const auto value_at_rank = [&](std::size_t rank) {
+    std::size_t below = 0, bucket = 0;
+    while (below + count[bucket] <= rank) below += count[bucket++];
+    std::vector<float> in;
+    in.reserve(count[bucket]);
+    for (std::size_t k = 0; k < buf.size(); ++k)
+      if (buf.key[k] != SplatBuffer::kEmpty && (buf.key[k] >> 48) == bucket) in.push_back(buf.depth_mm(k));
+    const auto at = in.begin() + static_cast<std::ptrdiff_t>(rank - below);
+    std::nth_element(in.begin(), at, in.end());
+    return *at;
+  };
+  near_mm = value_at_rank(n / 50);
+  far_mm = value_at_rank(n - 1 - n / 50);
   if (far_mm <= near_mm) far_mm = near_mm + 1.0;
   return true;
 }
