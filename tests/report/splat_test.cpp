@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "draw.hpp"
@@ -70,4 +72,37 @@ TEST(Splat, EachPixelHoldsTheNearestPointAndTheLowestIndexOnATie) {
   EXPECT_EQ(empty.point(0), -1);
   EXPECT_TRUE(std::isinf(empty.depth_mm(0)));
   EXPECT_TRUE(std::all_of(empty.key.begin(), empty.key.end(), [](std::uint64_t w) { return w == SplatBuffer::kEmpty; }));
+}
+
+// The picture's grey scale runs between the 2nd and 98th percentiles of the covered pixels' depths: exactly the
+// values a full sort puts at those ranks, however many pixels share a depth or how wide the depths spread.
+TEST(Splat, DepthRangeIsTheCoveredPixelsPercentiles) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 6; ++trial) {
+    SplatBuffer buf;
+    buf.width_px = 97, buf.height_px = 61;
+    buf.key.assign(std::size_t(buf.width_px) * buf.height_px, SplatBuffer::kEmpty);
+    // trials 0-2: depths over 300-900 mm; 3-4: many equal depths; 5: 1e-3 to 1e6 mm
+    std::uniform_real_distribution<double> wide(300.0, 900.0), huge(-3.0, 6.0);
+    std::uniform_int_distribution<int> few(0, 4), cover(0, 3);
+    std::vector<float> depths;
+    for (std::size_t k = 0; k < buf.key.size(); ++k) {
+      if (cover(rng) == 0) continue;  // a quarter of the pixels empty
+      const float z = trial < 3 ? float(wide(rng)) : trial < 5 ? float(500 + few(rng)) : float(std::pow(10.0, huge(rng)));
+      buf.key[k] = SplatBuffer::pack(z, std::uint32_t(k));
+      depths.push_back(z);
+    }
+    std::sort(depths.begin(), depths.end());
+    const std::size_t n = depths.size();
+    double near_mm = 0, far_mm = 0;
+    ASSERT_TRUE(depth_range(buf, near_mm, far_mm));
+    EXPECT_EQ(near_mm, depths[n / 50]) << "trial " << trial;
+    const double far_expected = depths[n - 1 - n / 50] > depths[n / 50] ? depths[n - 1 - n / 50] : depths[n / 50] + 1.0;
+    EXPECT_EQ(far_mm, far_expected) << "trial " << trial;
+  }
+  SplatBuffer empty;
+  empty.width_px = 4, empty.height_px = 4;
+  empty.key.assign(16, SplatBuffer::kEmpty);
+  double a = 0, b = 0;
+  EXPECT_FALSE(depth_range(empty, a, b));
 }
