@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <limits>
 
+#include "ewis/core/parallel.hpp"
+
 namespace ewis {
 
 std::ptrdiff_t range_bin(const RangeBins& b, const Eigen::Vector3d& p) {
@@ -24,17 +26,29 @@ struct RayBox {
 };
 
 RayBox ray_box(const std::vector<Eigen::Vector3f>& points) {
-  RayBox box;
-  for (const Eigen::Vector3f& p : points) {
-    if (!(p.z() > 0.0f)) continue;
-    const Eigen::Vector3d q = p.cast<double>();  // as range_bin divides
-    const Eigen::Vector2d uv(q.x() / q.z(), q.y() / q.z());
-    if (!uv.allFinite()) continue;
-    box.lo = box.lo.cwiseMin(uv);
-    box.hi = box.hi.cwiseMax(uv);
-    ++box.n;
-  }
-  return box;
+  // Per block, then combined in block order (the same box and count for any thread count: min, max and sums).
+  return parallel_reduce_ordered(
+      points.size(), 65536, RayBox{},
+      [&](std::size_t b, std::size_t e) {
+        RayBox box;
+        for (std::size_t i = b; i < e; ++i) {
+          const Eigen::Vector3f& p = points[i];
+          if (!(p.z() > 0.0f)) continue;
+          const Eigen::Vector3d q = p.cast<double>();  // as range_bin divides
+          const Eigen::Vector2d uv(q.x() / q.z(), q.y() / q.z());
+          if (!uv.allFinite()) continue;
+          box.lo = box.lo.cwiseMin(uv);
+          box.hi = box.hi.cwiseMax(uv);
+          ++box.n;
+        }
+        return box;
+      },
+      [](RayBox a, const RayBox& b) {
+        a.lo = a.lo.cwiseMin(b.lo);
+        a.hi = a.hi.cwiseMax(b.hi);
+        a.n += b.n;
+        return a;
+      });
 }
 
 RangeBins bin_in_box(const std::vector<Eigen::Vector3f>& points, const RayBox& box, double points_per_bin) {
@@ -50,22 +64,44 @@ RangeBins bin_in_box(const std::vector<Eigen::Vector3f>& points, const RayBox& b
   b.height = static_cast<int>(std::ceil(extent.y() / b.bin)) + 1;
   const std::size_t cells = static_cast<std::size_t>(b.width) * static_cast<std::size_t>(b.height);
   constexpr float kNone = std::numeric_limits<float>::infinity();
-  std::vector<float> first(cells, kNone), second(cells, kNone);
-  for (const Eigen::Vector3f& p : points) {
-    const std::ptrdiff_t k = range_bin(b, p.cast<double>());
-    if (k < 0) continue;
-    const std::size_t i = static_cast<std::size_t>(k);
-    if (p.z() < first[i]) {
-      second[i] = first[i];
-      first[i] = p.z();
-    } else if (p.z() < second[i]) {
-      second[i] = p.z();
+  // The two smallest depths per bin, of each of a few fixed parts of the points at once, then merged: the two
+  // smallest of a bin's depths (equal ones counted apart) whatever part they came from.
+  constexpr std::size_t kParts = 4;
+  const std::size_t part = (points.size() + kParts - 1) / kParts;
+  std::vector<std::vector<float>> first(kParts), second(kParts);
+  parallel_for_each_index(kParts, [&](std::size_t t) {
+    first[t].assign(cells, kNone);
+    second[t].assign(cells, kNone);
+    std::vector<float>& f = first[t];
+    std::vector<float>& s2 = second[t];
+    for (std::size_t j = t * part; j < std::min(points.size(), (t + 1) * part); ++j) {
+      const Eigen::Vector3f& p = points[j];
+      const std::ptrdiff_t k = range_bin(b, p.cast<double>());
+      if (k < 0) continue;
+      const std::size_t i = static_cast<std::size_t>(k);
+      if (p.z() < f[i]) {
+        s2[i] = f[i];
+        f[i] = p.z();
+      } else if (p.z() < s2[i]) {
+        s2[i] = p.z();
+      }
     }
-  }
+  }, 1);
+  for (std::size_t t = 1; t < kParts; ++t)
+    for (std::size_t i = 0; i < cells; ++i)
+      for (const float z : {first[t][i], second[t][i]}) {
+        if (z < first[0][i]) {
+          second[0][i] = first[0][i];
+          first[0][i] = z;
+        } else if (z < second[0][i]) {
+          second[0][i] = z;
+        }
+      }
+  std::vector<float>& nearest = second[0];
   // The second-nearest depth: one stray point in front (an outlier the filter left) does not hide the bin.
   for (std::size_t i = 0; i < cells; ++i)
-    if (second[i] == kNone) second[i] = first[i];
-  b.nearest_mm = std::move(second);
+    if (nearest[i] == kNone) nearest[i] = first[0][i];
+  b.nearest_mm = std::move(nearest);
   return b;
 }
 
