@@ -1,6 +1,8 @@
 // report.html: one self-contained page (inline CSS, base64 PNG pictures, no scripts, no external links).
 #include "ewis/report/report_html.hpp"
 
+#include <tbb/parallel_invoke.h>
+
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -176,15 +178,16 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
 
   const PointLabels labels = label_points(r);
   // The pictures: the scan, then each defect's pair, each a function of the result alone (the page is the same
-  // for any thread count). The scan's picture first, alone; then the close-ups, in parallel. (A ray caster built
-  // here, when the result holds none, comes after the scan's full-size buffers are gone.)
+  // for any thread count). The scan's picture first, alone (its full-size buffers); then its PNG encoding (one
+  // thread) beside the close-ups (in parallel). (A ray caster built here, when the result holds none, comes after
+  // the scan's full-size buffers are gone.)
   const std::vector<DefectView> views = defect_views(r, params.max_closeups);
   const bool render_cad = !views.empty() && params.render_cad && !scene.triangles.empty();
   const std::size_t per_view = render_cad ? 2 : 1;
   std::vector<std::string> img(1 + per_view * views.size());
-  img[0] = png_img(splat_scan(r, labels, report_camera(plan, params.scan_image_width_px), r.scan_to_cad),
-                   "scan from the registered sensor pose", "scan");
-  if (!views.empty()) {
+  const Image scan_picture = splat_scan(r, labels, report_camera(plan, params.scan_image_width_px), r.scan_to_cad);
+  const auto closeups = [&] {
+    if (views.empty()) return;
     // The inspection's own when it is over this scene (the same BVH), else built here.
     std::shared_ptr<const Raycaster> caster;
     if (render_cad)
@@ -199,7 +202,9 @@ std::string report_html(const InspectionResult& r, const Scene& scene, const Ins
                        : png_img(closeup_render(r, labels, *caster, views[v], cam), "CAD around " + views[v].title,
                                  "closeup");
     }, 1);
-  }
+  };
+  tbb::parallel_invoke([&] { img[0] = png_img(scan_picture, "scan from the registered sensor pose", "scan"); },
+                       closeups);
 
   // The scan as the sensor saw it.
   o << "<h2>The scan as the sensor saw it</h2>\n";
