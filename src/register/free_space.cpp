@@ -123,23 +123,33 @@ RangeBins bin_scan_depths(const std::vector<Eigen::Vector3f>& scan, double point
 
 FreeSpaceCount count_in_front(const RangeBins& bins, const Cloud& cad_samples, const Pose& scan_to_cad,
                               double margin_mm) {
-  FreeSpaceCount c;
-  if (bins.bin <= 0.0) return c;
+  if (bins.bin <= 0.0) return FreeSpaceCount{};
   const Pose cad_to_scan = scan_to_cad.inverse();
   const Eigen::Vector3d eye = scan_to_cad.translation();
   const bool normals = cad_samples.normals.size() == cad_samples.points.size();
-  for (std::size_t i = 0; i < cad_samples.points.size(); ++i) {
-    const Eigen::Vector3d q = cad_samples.points[i].cast<double>();
-    if (normals && cad_samples.normals[i].cast<double>().dot(eye - q) <= 0.0) continue;  // turned away
-    const Eigen::Vector3d p = cad_to_scan * q;
-    const std::ptrdiff_t k = range_bin(bins, p);
-    if (k < 0) continue;
-    const float z = bins.nearest_mm[static_cast<std::size_t>(k)];
-    if (!std::isfinite(z)) continue;
-    ++c.seen;
-    c.in_front += p.z() < static_cast<double>(z) - margin_mm;
-  }
-  return c;
+  // Counts per block, summed (exact: the same for any thread count).
+  return parallel_reduce_ordered(
+      cad_samples.points.size(), 16384, FreeSpaceCount{},
+      [&](std::size_t b, std::size_t e) {
+        FreeSpaceCount c;
+        for (std::size_t i = b; i < e; ++i) {
+          const Eigen::Vector3d q = cad_samples.points[i].cast<double>();
+          if (normals && cad_samples.normals[i].cast<double>().dot(eye - q) <= 0.0) continue;  // turned away
+          const Eigen::Vector3d p = cad_to_scan * q;
+          const std::ptrdiff_t k = range_bin(bins, p);
+          if (k < 0) continue;
+          const float z = bins.nearest_mm[static_cast<std::size_t>(k)];
+          if (!std::isfinite(z)) continue;
+          ++c.seen;
+          c.in_front += p.z() < static_cast<double>(z) - margin_mm;
+        }
+        return c;
+      },
+      [](FreeSpaceCount a, const FreeSpaceCount& b) {
+        a.seen += b.seen;
+        a.in_front += b.in_front;
+        return a;
+      });
 }
 
 }  // namespace ewis
