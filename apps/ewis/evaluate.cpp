@@ -13,6 +13,7 @@ Command add_evaluate(CLI::App& root, CommonOptions& common) {
   struct Options {
     std::string campaign, out;
     bool no_html = false;
+    bool no_clouds = false;
     bool no_pose = false;
   };
   auto opt = std::make_shared<Options>();
@@ -23,12 +24,15 @@ Command add_evaluate(CLI::App& root, CommonOptions& common) {
   cmd.app->add_option("--campaign", opt->campaign, "Campaign folder written by `ewis simulate --campaign N`")->required();
   cmd.app->add_option("--out", opt->out, "Output folder: <scene>/ reports, evaluation.json, evaluation.md")->required();
   cmd.app->add_flag("--no-html", opt->no_html, "Skip report.html of each scene (faster)");
+  cmd.app->add_flag("--no-clouds", opt->no_clouds,
+                    "Skip the coloured PLY files of each scene (cables, interferences, rest: ~12 MB a scene)");
   cmd.app->add_flag("--no-pose", opt->no_pose,
                     "Ignore each scene's pose.txt: register globally (measures registration without a pose)");
   add_common_options(cmd.app, common);
   cmd.run = [opt, &common]() -> int {
     EvaluateParams params;
     params.run.write_html = !opt->no_html;
+    params.run.write_clouds = !opt->no_clouds;
     params.use_pose = !opt->no_pose;
     params.progress = make_progress(common);  // steps inside each inspection (scenes take seconds to minutes)
     params.on_scene = [&common](std::size_t i, std::size_t n, const SceneEvaluation& e) {

@@ -9,6 +9,11 @@ from ewis_cli import run, tmpdir, validate
 FILES = ["scene.obj", "plan.json", "scan.ply", "pose.txt", "truth.json"]
 
 
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
 class SimulateTest(unittest.TestCase):
     def test_scene_folder_and_schemas(self):
         d = tmpdir("sim")
@@ -16,9 +21,9 @@ class SimulateTest(unittest.TestCase):
         for f in FILES:
             self.assertTrue(os.path.getsize(os.path.join(d, f)) > 0, f)
         self.assertTrue(any(f.endswith(".png") for f in os.listdir(d)))
-        truth = json.load(open(os.path.join(d, "truth.json")))
+        truth = load(os.path.join(d, "truth.json"))
         validate(truth, "truth.schema.json")
-        plan = json.load(open(os.path.join(d, "plan.json")))
+        plan = load(os.path.join(d, "plan.json"))
         validate(plan, "plan.schema.json")
         self.assertEqual({x["kind"] for x in truth["defects"]}, {"clearance"})
         cables = {e["name"] for e in plan["elements"] if e["kind"] == "cable"}
@@ -40,8 +45,24 @@ class SimulateTest(unittest.TestCase):
         run("simulate", "--out", d, "--seed", "1", "--campaign", "4", "--quiet", check=0)
         scenes = sorted(x for x in os.listdir(d) if os.path.isdir(os.path.join(d, x)))
         self.assertEqual(len(scenes), 4)
-        with_defects = sum(1 for s in scenes if json.load(open(os.path.join(d, s, "truth.json")))["defects"])
+        with_defects = sum(1 for s in scenes if load(os.path.join(d, s, "truth.json"))["defects"])
         self.assertEqual(with_defects, 2)
+
+    def test_evaluate_a_small_campaign(self):
+        # CONTRACT "ewis evaluate": each scene inspected with its pose, compared with its truth; evaluation.json valid
+        # against its schema; --no-html and --no-clouds leave report.json alone in each scene's folder.
+        camp, out = tmpdir("eval-camp"), tmpdir("eval-out")
+        run("simulate", "--out", camp, "--seed", "1", "--campaign", "2", "--quiet", check=0)
+        run("evaluate", "--campaign", camp, "--out", out, "--no-html", "--no-clouds", "--quiet", check=0)
+        ev = load(os.path.join(out, "evaluation.json"))
+        validate(ev, "evaluation.schema.json")
+        self.assertEqual(ev["scenes"], 2)
+        self.assertEqual(ev["failed_runs"], 0)
+        self.assertEqual(ev["verdicts"]["correct"], 2)
+        self.assertTrue(os.path.getsize(os.path.join(out, "evaluation.md")) > 0)
+        for s in sorted(x for x in os.listdir(camp) if os.path.isdir(os.path.join(camp, x))):
+            self.assertEqual(sorted(os.listdir(os.path.join(out, s))), ["report.json"], s)
+            validate(load(os.path.join(out, s, "report.json")), "report.schema.json")
 
     def test_bad_option_exit_2(self):
         d = tmpdir("sim-bad")
