@@ -681,6 +681,20 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         if (!varies) return;
       }
     }
+    // Not its whole advantage in one stretch, the rest fitting worse (FilletRefineParams::smooth_spread_bins).
+    if (params.smooth_spread_bins > 1) {
+      const int bins = params.smooth_spread_bins;
+      std::vector<std::vector<Eigen::Vector3d>> stretch(static_cast<std::size_t>(bins));
+      for (const Eigen::Vector3d& x : over) {
+        const int k = std::clamp(int(std::floor(0.5 * (sf.model.tau_of(x) + 1.0) * bins)), 0, bins - 1);
+        stretch[std::size_t(k)].push_back(x);
+      }
+      double top = 0;
+      for (const auto& pts_k : stretch)
+        if (!pts_k.empty())
+          top = std::max(top, fillet_robust_cost(pts_k, rival.model, c) - smooth_tube_robust_cost(pts_k, sf.model, c));
+      if (!(ratio - 2.0 * top / sigma2 >= params.smooth_spread_min_log_likelihood_ratio)) return;
+    }
     o.smooth = true;
     o.smooth_fit = sf;
   };

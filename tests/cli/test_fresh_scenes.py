@@ -88,6 +88,16 @@ class FreshScenes(unittest.TestCase):
         t, a = truth_and_report_cable(truth, report, "cable_A")
         self.assert_bend_within_5_percent(a, t)
 
+    def test_a_box_resting_on_a_bend_does_not_bend_the_smooth_tube(self):
+        # Seed 8888's scene_035 (I60, 0.3 mm noise). A 13 x 14 x 8 mm box rests 0.57 mm above cable_B (15.8 mm) in the
+        # middle of its 106.27 mm, 45 deg bend: the quartic tube bent to the box's noisy surface and read 92.24 +- 0.62
+        # (the fillet 105.24 +- 0.35), its whole advantage in the box's stretch (FilletRefineParams::smooth_spread_bins).
+        truth, report = simulate_and_inspect("fresh_i035", 5363269809087452800, "--defect", "foreign_object",
+                                             "--noise-mm", "0.3")
+        t, b = truth_and_report_cable(truth, report, "cable_B")
+        self.assert_bend_within_5_percent(b, t)
+        self.assertTrue([i for i in b["interferences"] if i["with"] is None])  # the box: a foreign object
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -287,6 +287,17 @@ struct FilletRefineParams {
   // axis to follow it and read 130 mm for a 244 mm cable (fillet 307 mm: 0.42), a false bend alarm
   // (bench/spline_scenes.py --bundle 3, seed 7, scene_012).
   double smooth_min_fillet_ratio = 0.5;
+  // ... and only when it does not buy its advantage in one stretch by fitting worse elsewhere: with the points over
+  // the chord in smooth_spread_bins equal stretches (by the chord's parameter), the likelihood ratio over all but the
+  // stretch where the smooth tube gains most must reach smooth_spread_min_log_likelihood_ratio (0: the rest of the
+  // window fits at least as well as by the fillet). A touching object's points give the quartic its whole advantage
+  // in one stretch and the rest fits worse: I60 scene_035, a box resting 0.57 mm above a 15.8 mm cable in the middle
+  // of its 106.27 mm bend, read 92.24 +- 0.62 by the quartic (ratio 48.2: +82.1 in the box's stretch, -33.9 over the
+  // rest), the fillet 105.24 +- 0.35; I60 scene_015 (a foreign object 0.31 mm from cable_A) 80.29 for 86.24 (+95.2,
+  // -11.0). A spline's varying curvature spreads it (S25x, B25x: each stretch 0-15 of totals 9-270, the rest >= 6.8).
+  // 0 or 1: off.
+  int smooth_spread_bins = 8;
+  double smooth_spread_min_log_likelihood_ratio = 0.0;
   // A fillet's window over a curvature peak. Where the smooth tube is not taken, the fillet refitted on its points
   // (the narrower window, centred on the peak) reads the candidate when it is tighter than the candidate's own
   // fillet by at least narrow_min_z standard errors of the difference, sqrt(se_narrow^2 - se_wide^2) (nested fits
