@@ -82,19 +82,29 @@ bool depth_range(const SplatBuffer& buf, double& near_mm, double& far_mm) {
       ++n;
     }
   if (n == 0) return false;
-  const auto value_at_rank = [&](std::size_t rank) {
-    std::size_t below = 0, bucket = 0;
+  // The bucket holding each rank and the ranks below it; then one pass gathers those buckets' depths.
+  const auto bucket_of = [&](std::size_t rank, std::size_t& below) {
+    std::size_t bucket = 0;
+    below = 0;
     while (below + count[bucket] <= rank) below += count[bucket++];
-    std::vector<float> in;
-    in.reserve(count[bucket]);
-    for (std::size_t k = 0; k < buf.size(); ++k)
-      if (buf.key[k] != SplatBuffer::kEmpty && (buf.key[k] >> 48) == bucket) in.push_back(buf.depth_mm(k));
-    const auto at = in.begin() + static_cast<std::ptrdiff_t>(rank - below);
-    std::nth_element(in.begin(), at, in.end());
-    return *at;
+    return static_cast<std::uint64_t>(bucket);
   };
-  near_mm = value_at_rank(n / 50);
-  far_mm = value_at_rank(n - 1 - n / 50);
+  const std::size_t rank_lo = n / 50, rank_hi = n - 1 - n / 50;
+  std::size_t below_lo = 0, below_hi = 0;
+  const std::uint64_t bucket_lo = bucket_of(rank_lo, below_lo), bucket_hi = bucket_of(rank_hi, below_hi);
+  std::vector<float> in_lo, in_hi;
+  for (std::size_t k = 0; k < buf.size(); ++k) {
+    if (buf.key[k] == SplatBuffer::kEmpty) continue;
+    const std::uint64_t bucket = buf.key[k] >> 48;
+    if (bucket == bucket_lo) in_lo.push_back(buf.depth_mm(k));
+    if (bucket == bucket_hi) in_hi.push_back(buf.depth_mm(k));
+  }
+  const auto select = [](std::vector<float>& in, std::size_t at) {
+    std::nth_element(in.begin(), in.begin() + static_cast<std::ptrdiff_t>(at), in.end());
+    return in[at];
+  };
+  near_mm = select(in_lo, rank_lo - below_lo);
+  far_mm = select(in_hi, rank_hi - below_hi);
   if (far_mm <= near_mm) far_mm = near_mm + 1.0;
   return true;
 }
