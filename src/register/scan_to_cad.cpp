@@ -31,6 +31,7 @@ struct Run {
   RegistrationResult reg;
   std::size_t excluded = 0;  // of the subsample
   FreeSpaceCount free_space;  // the CAD's faces toward the sensor that lie in front of what it measured
+  double box_fitness = 0.0;  // the fitness over the points the pose maps into the CAD's box (see refine)
 };
 
 // How well the scan supports a pose: its fitness, discounted by the fraction of the CAD's seen faces it puts in
@@ -135,6 +136,24 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   run.reg = align_point_to_plane(scan, *view.cloud, *view.tree, coarse.source_to_target, fine, keep, {}, &memory);
   run.reg.iterations += coarse.iterations;
   run.excluded = scan.size() - keep.size();
+  // The fitness over the points the pose maps into the CAD's box grown by box_margin_mm (ScanToCadParams::box_*): a
+  // background just beyond the CAD (a panel 40 mm under the scene's plate, boxes beside it), within the crop's
+  // margin of the pose's uncertainty, does not lower it.
+  {
+    const Eigen::AlignedBox3d box = cad_box(target);
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(params.box_margin_mm);
+    const Eigen::AlignedBox3f reach = Eigen::AlignedBox3d(box.min() - grow, box.max() + grow).cast<float>();
+    const Eigen::Matrix3f R = run.reg.source_to_target.linear().cast<float>();
+    const Eigen::Vector3f t = run.reg.source_to_target.translation().cast<float>();
+    std::vector<std::uint32_t> inside;
+    inside.reserve(keep.size());
+    for (std::uint32_t i : keep)
+      if (reach.contains(R * scan[i] + t)) inside.push_back(i);
+    run.box_fitness = inside.empty() ? 0.0
+                                       : evaluate_registration(scan, *view.cloud, *view.tree, run.reg.source_to_target,
+                                                               run.reg.inlier_distance_mm, inside)
+                                             .fitness;
+  }
   if (bins) run.free_space = count_in_front(*bins, *view.cloud, run.reg.source_to_target, params.in_front_margin_mm);
   return run;
 }
@@ -181,13 +200,22 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
       have = true;
     }
   };
-  if (initial_scan_to_cad)
-    consider(refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins), false);
+  double box_fitness = 0.0;
+  if (initial_scan_to_cad) {
+    const Run local = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins);
+    box_fitness = local.box_fitness;
+    consider(local, false);
+  }
   // A pose slid along a symmetry of the scene (parallel pipes, a plate's long edge) still validates, but with a
   // fitness well below a right pose's: below trusted_fitness (or above trusted_in_front_fraction) the global
-  // registration is tried too, and the higher support wins.
-  const bool ok = have && res.registration.fitness >= std::max(params.min_fitness, params.trusted_fitness) &&
-                  res.free_space.fraction() <= params.trusted_in_front_fraction;
+  // registration is tried too, and the higher support wins; unless a background explains the fitness: inside the
+  // CAD's box the pose fits as right poses do, and it puts hardly any CAD face in front of what was measured
+  // (ScanToCadParams::box_*).
+  const double in_front = res.free_space.fraction();
+  const bool fits = res.registration.fitness >= params.trusted_fitness ||
+                    (box_fitness >= params.box_trusted_fitness && in_front <= params.box_trusted_in_front_fraction);
+  const bool ok = have && res.registration.fitness >= params.min_fitness && fits &&
+                  in_front <= params.trusted_in_front_fraction;
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
     // The candidates to refine, best first; everything the search needed is freed before the refinement
     // (each refinement draws its own view of the CAD).
