@@ -14,7 +14,7 @@ namespace ewis {
 // attribute's copy at a time (gathered in parallel); beyond that 4 bytes a point for the order and no copy of the
 // cloud (permuted in place, one cycle at a time: about 2.6 times slower). The default, 16 Mi points (201 MB of
 // positions), keeps the in-place way for the largest clouds only: on a 5.03 M-point scan it took the inspection's
-// filter step from 2.29 to 1.35 s for 20 MB more at its peak (152 MB, 2.5x the positions; 4 Mi before).
+// filter step from 2.37-2.63 to 1.09-1.34 s for 20 MB more at its peak (152 MB, 2.5x the positions; 4 Mi before).
 KdTree sort_for_search(Cloud& cloud, std::size_t copy_max_points = std::size_t(16) << 20);
 
 }  // namespace ewis
