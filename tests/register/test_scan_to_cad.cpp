@@ -145,10 +145,10 @@ TEST(ScanToCad, BackgroundBeyondTheCadIsLeftOut) {
 
 // A background just beyond the CAD, inside the crop's margin (a floor 40 mm under the plate, boxes beside it), scanned
 // by the virtual sensor (occlusions, 40 % outliers, then the radius outlier removal; without the background the
-// fitness is 0.99): the local result's fitness falls under trusted_fitness (0.77), but over
-// the points it maps into the CAD's box it fits as a right pose does and puts no CAD face in front of the scan, so it
-// is trusted without the global search (which, on the second scanner's campaign with such a background, ran on 28 of
-// 30 scenes: 4.3 s instead of 0.5). Without that rule the global search runs and finds the same pose.
+// fitness is 0.99): the local result's fitness falls under trusted_fitness (0.76), but over the points it maps into
+// the CAD's box it fits as a right pose does and puts no CAD face in front of the scan, so it is trusted without the
+// global search (which, on the second scanner's campaign with such a background, ran on 28 of 30 scenes: 4.3 s
+// instead of 0.5). Without that rule the global search runs, and the local pose still wins.
 TEST(ScanToCad, ABackgroundJustBeyondTheCadCallsNoGlobalSearch) {
   using V = Eigen::Vector3d;
   Scene as_built = test::make_scene();
@@ -159,37 +159,35 @@ TEST(ScanToCad, ABackgroundJustBeyondTheCadCallsNoGlobalSearch) {
   Camera camera;
   camera.width_px = 640;
   camera.height_px = 512;
-  for (std::uint64_t seed = 41; seed <= 41; ++seed) {
-    // obliquely, as a robot's sensor looks at an assembly (straight down, the blocks' sides are not seen)
-    const Pose cam = look_at(V(-60.0 + 20.0 * double(seed % 3), -120.0, 480.0), V(200, 150, 0), V::UnitZ());
-    sim::SensorParams sp;
-    sp.seed = seed;
-    // the inspection's first step: radius outlier removal with its derived parameters
-    const Cloud raw = sim::scan(caster, camera, cam, sp).cloud;
-    const Cloud scan = select(raw, remove_radius_outliers(KdTree(raw.points), RadiusOutlierParams{}).kept);
-    const Pose init = off_at_scene(cam, seed, 3.0, 20.0);
-    SCOPED_TRACE("seed " + std::to_string(seed));
-    for (const bool box_rule : {true, false}) {
-      ScanToCadParams params;
-      if (!box_rule) params.box_trusted_fitness = 2.0;  // never: the fitness alone decides, as before
-      bool global_searched = false;
-      const ScanToCadResult r = register_scan_to_cad(scan, cad_target(), init, params, [&](std::string_view stage, double) {
-        if (stage == "register-global") global_searched = true;
-      });
-      const PoseError e = pose_error(r.registration.source_to_target, cam);
-      std::cout << "background beside the CAD, seed " << seed << (box_rule ? "" : " (fitness alone)") << ": " << e.deg
-                << " deg " << e.mm << " mm, fitness " << r.registration.fitness << ", global search "
-                << global_searched << "\n";
-      EXPECT_TRUE(r.valid);
-      EXPECT_LT(e.deg, 0.1);
-      EXPECT_LT(e.mm, 0.3);
-      EXPECT_FALSE(r.used_global);
-      if (box_rule) {
-        EXPECT_LT(r.registration.fitness, params.trusted_fitness);  // the background lowers it ...
-        EXPECT_FALSE(global_searched);                             // ... and the box rule trusts the pose
-      } else {
-        EXPECT_TRUE(global_searched);
-      }
+  const std::uint64_t seed = 41;
+  // obliquely, as a robot's sensor looks at an assembly (straight down, the blocks' sides are not seen)
+  const Pose cam = look_at(V(-40, -120, 480), V(200, 150, 0), V::UnitZ());
+  sim::SensorParams sp;
+  sp.seed = seed;
+  // the inspection's first step: radius outlier removal with its derived parameters
+  const Cloud raw = sim::scan(caster, camera, cam, sp).cloud;
+  const Cloud scan = select(raw, remove_radius_outliers(KdTree(raw.points), RadiusOutlierParams{}).kept);
+  const Pose init = off_at_scene(cam, seed, 3.0, 20.0);
+  for (const bool box_rule : {true, false}) {
+    ScanToCadParams params;
+    if (!box_rule) params.box_trusted_fitness = 2.0;  // never: the fitness alone decides, as before
+    bool global_searched = false;
+    const ScanToCadResult r = register_scan_to_cad(scan, cad_target(), init, params, [&](std::string_view stage, double) {
+      if (stage == "register-global") global_searched = true;
+    });
+    const PoseError e = pose_error(r.registration.source_to_target, cam);
+    std::cout << "background beside the CAD" << (box_rule ? "" : " (fitness alone)") << ": " << e.deg << " deg "
+              << e.mm << " mm, fitness " << r.registration.fitness << ", global search " << global_searched << "\n";
+    SCOPED_TRACE(box_rule ? "box rule" : "fitness alone");
+    EXPECT_TRUE(r.valid);
+    EXPECT_LT(e.deg, 0.1);
+    EXPECT_LT(e.mm, 0.3);
+    EXPECT_FALSE(r.used_global);
+    if (box_rule) {
+      EXPECT_LT(r.registration.fitness, params.trusted_fitness);  // the background lowers it ...
+      EXPECT_FALSE(global_searched);                             // ... and the box rule trusts the pose
+    } else {
+      EXPECT_TRUE(global_searched);
     }
   }
 }

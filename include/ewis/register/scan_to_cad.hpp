@@ -22,13 +22,13 @@ struct ScanToCadParams {
   // scenes; a pose slid 47 mm along two parallel pipes: 0.83); the higher fitness wins
   double trusted_fitness = 0.9;
   // A background just beyond the CAD, within the crop's margin below (a floor 40 mm under the scene's plate and
-  // boxes around it, bench/second_scanner.py), lowers a right pose's fitness too (0.81-0.95 on 30 such scenes, 28 of
-  // them under 0.9 and registered globally again: 4.3 s instead of 0.5). So a local result is trusted as well when, over the scan
-  // points it maps into the CAD's bounding box grown by box_margin_mm, its fitness reaches box_trusted_fitness and
-  // it puts at most box_trusted_in_front_fraction of the CAD's faces toward the sensor in front of what was
-  // measured. The box alone is not enough: a pose slid along a symmetry maps its evidence against itself out of
-  // the box (7 slid local results on the simulated sets: box fitness 0.87-0.93 but 6-17 % in front; right poses
-  // behind those backgrounds: 0.98-1.00 and 0.1-1.6 %).
+  // boxes around it, bench/second_scanner.py), lowers a right pose's fitness too (0.81-0.95 on 30 such scenes, 28
+  // of them under 0.9 and registered globally again: 4.3 s instead of 0.5). So a local result is trusted as well
+  // when, over the scan points it maps into the CAD's bounding box grown by box_margin_mm, its fitness reaches
+  // box_trusted_fitness and it puts at most box_trusted_in_front_fraction of the CAD's faces toward the sensor in
+  // front of what was measured. The box alone is not enough: a pose slid along a symmetry maps its evidence against
+  // itself out of the box (7 slid local results on the simulated sets: box fitness 0.87-0.93 but 6-17 % in front;
+  // right poses behind those backgrounds: 0.98-1.00 and 0.1-1.6 %).
   double box_margin_mm = 10.0;
   double box_trusted_fitness = 0.95;
   double box_trusted_in_front_fraction = 0.03;
