@@ -172,9 +172,10 @@ TEST(ScanToCad, ABackgroundJustBeyondTheCadCallsNoGlobalSearch) {
     ScanToCadParams params;
     if (!box_rule) params.box_trusted_fitness = 2.0;  // never: the fitness alone decides, as before
     bool global_searched = false;
-    const ScanToCadResult r = register_scan_to_cad(scan, cad_target(), init, params, [&](std::string_view stage, double) {
+    const auto watch = [&](std::string_view stage, double) {
       if (stage == "register-global") global_searched = true;
-    });
+    };
+    const ScanToCadResult r = register_scan_to_cad(scan, cad_target(), init, params, watch);
     const PoseError e = pose_error(r.registration.source_to_target, cam);
     std::cout << "background beside the CAD" << (box_rule ? "" : " (fitness alone)") << ": " << e.deg << " deg "
               << e.mm << " mm, fitness " << r.registration.fitness << ", global search " << global_searched << "\n";
