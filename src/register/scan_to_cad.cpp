@@ -31,7 +31,7 @@ struct Run {
   RegistrationResult reg;
   std::size_t excluded = 0;  // of the subsample
   FreeSpaceCount free_space;  // the CAD's faces toward the sensor that lie in front of what it measured
-  double box_fitness = 0.0;  // the fitness over the points the pose maps into the CAD's box (see refine)
+  double box_fitness = 0.0;  // over the points the pose maps into the CAD's box; 0: not measured (see refine)
 };
 
 // How well the scan supports a pose: its fitness, discounted by the fraction of the CAD's seen faces it puts in
@@ -81,6 +81,21 @@ Eigen::AlignedBox3d cad_box(const CadTarget& target) {
   for (const Eigen::Vector3f& p : target.rigid.points) box.extend(p.cast<double>());
   for (const Eigen::Vector3f& p : target.cables.points) box.extend(p.cast<double>());
   return box;
+}
+
+// Whether `pose` maps a scan point into the CAD's box grown by `grow_mm`.
+struct CadReach {
+  Eigen::AlignedBox3f box;
+  Eigen::Matrix3f R;
+  Eigen::Vector3f t;
+  bool operator()(const Eigen::Vector3f& p) const { return box.contains(R * p + t); }
+};
+
+CadReach cad_reach(const CadTarget& target, const Pose& pose, double grow_mm) {
+  const Eigen::AlignedBox3d box = cad_box(target);
+  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(grow_mm);
+  return {Eigen::AlignedBox3d(box.min() - grow, box.max() + grow).cast<float>(), pose.linear().cast<float>(),
+          pose.translation().cast<float>()};
 }
 
 // The final correspondence distance: ~1 mm, but never below what the sampling spacing and the noise need.
@@ -136,23 +151,19 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   run.reg = align_point_to_plane(scan, *view.cloud, *view.tree, coarse.source_to_target, fine, keep, {}, &memory);
   run.reg.iterations += coarse.iterations;
   run.excluded = scan.size() - keep.size();
-  // The fitness over the points the pose maps into the CAD's box grown by box_margin_mm (ScanToCadParams::box_*): a
-  // background just beyond the CAD (a panel 40 mm under the scene's plate, boxes beside it), within the crop's
-  // margin of the pose's uncertainty, does not lower it.
-  {
-    const Eigen::AlignedBox3d box = cad_box(target);
-    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(params.box_margin_mm);
-    const Eigen::AlignedBox3f reach = Eigen::AlignedBox3d(box.min() - grow, box.max() + grow).cast<float>();
-    const Eigen::Matrix3f R = run.reg.source_to_target.linear().cast<float>();
-    const Eigen::Vector3f t = run.reg.source_to_target.translation().cast<float>();
+  // Where the fitness alone would not trust the pose: the fitness over the points it maps into the CAD's box grown by
+  // box_margin_mm (ScanToCadParams::box_*), which a background just beyond the CAD (a panel 40 mm under the scene's
+  // plate, boxes beside it), within the crop's margin of the pose's uncertainty, does not lower.
+  if (run.reg.fitness < params.trusted_fitness) {
+    const CadReach reach = cad_reach(target, run.reg.source_to_target, params.box_margin_mm);
     std::vector<std::uint32_t> inside;
     inside.reserve(keep.size());
     for (std::uint32_t i : keep)
-      if (reach.contains(R * scan[i] + t)) inside.push_back(i);
-    run.box_fitness = inside.empty() ? 0.0
-                                       : evaluate_registration(scan, *view.cloud, *view.tree, run.reg.source_to_target,
-                                                               run.reg.inlier_distance_mm, inside)
-                                             .fitness;
+      if (reach(scan[i])) inside.push_back(i);
+    if (!inside.empty())
+      run.box_fitness = evaluate_registration(scan, *view.cloud, *view.tree, run.reg.source_to_target,
+                                              run.reg.inlier_distance_mm, inside)
+                            .fitness;
   }
   if (bins) run.free_space = count_in_front(*bins, *view.cloud, run.reg.source_to_target, params.in_front_margin_mm);
   return run;
@@ -167,18 +178,14 @@ std::vector<Eigen::Vector3f> without_background(const std::vector<Eigen::Vector3
                                                 const Pose& pose, double grow_mm) {
   std::vector<Eigen::Vector3f> cropped;
   if (scan.empty()) return cropped;
-  const Eigen::AlignedBox3d box = cad_box(target);
-  const Eigen::Vector3d grow = Eigen::Vector3d::Constant(grow_mm);
-  const Eigen::AlignedBox3f reach = Eigen::AlignedBox3d(box.min() - grow, box.max() + grow).cast<float>();
-  const Eigen::Matrix3f R = pose.linear().cast<float>();
-  const Eigen::Vector3f t = pose.translation().cast<float>();
+  const CadReach reach = cad_reach(target, pose, grow_mm);
   std::size_t inside = 0;
-  for (const Eigen::Vector3f& p : scan) inside += reach.contains(R * p + t);
+  for (const Eigen::Vector3f& p : scan) inside += reach(p);
   const double outside = 1.0 - static_cast<double>(inside) / static_cast<double>(scan.size());
   if (inside >= scan.size() / 10 && outside >= kMinBackgroundFraction) {
     cropped.reserve(inside);
     for (const Eigen::Vector3f& p : scan)
-      if (reach.contains(R * p + t)) cropped.push_back(p);
+      if (reach(p)) cropped.push_back(p);
   }
   return cropped;
 }
