@@ -31,6 +31,7 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
     std::string clearance_with;
     double noise_mm = 0.2;
     double outliers = 0.4;
+    int mismatch_patches = 0;
     double pose_error_deg = 5.0;
     double pose_error_mm = 30.0;
     int cables = 0;
@@ -54,6 +55,8 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
       ->check(CLI::IsMember({"pipe", "bracket", "cable"}));
   app->add_option("--noise-mm", opt->noise_mm, "Noise sigma along the ray at 600 mm (grows with range^2)");
   app->add_option("--outliers", opt->outliers, "Outlier fraction of the output cloud (0-0.95)");
+  app->add_option("--mismatch-patches", opt->mismatch_patches,
+                  "Stereo-mismatch patches: N square patches of 2-6 px whose depths are off by 1-10 mm (default 0)");
   app->add_option("--pose-error-deg", opt->pose_error_deg, "pose.txt: rotation error of up to this (deg)");
   app->add_option("--pose-error-mm", opt->pose_error_mm, "pose.txt: translation error of up to this (mm)");
   app->add_option("--cables", opt->cables, "Number of cables, 1-3 (default: random)");
@@ -73,6 +76,8 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
     const Options& o = *opt;
     if (o.noise_mm < 0) throw InputError("", "--noise-mm must be >= 0");
     if (o.outliers < 0 || o.outliers > 0.95) throw InputError("", "--outliers must be in [0, 0.95]");
+    if (o.mismatch_patches < 0 || o.mismatch_patches > 1000000)
+      throw InputError("", "--mismatch-patches must be in [0, 1000000]");
     if (o.pose_error_deg < 0 || o.pose_error_deg > 180) throw InputError("", "--pose-error-deg must be in [0, 180]");
     if (o.pose_error_mm < 0) throw InputError("", "--pose-error-mm must be >= 0");
     if (o.cables < 0 || o.cables > 3) throw InputError("", "--cables must be 1, 2 or 3");
@@ -92,6 +97,7 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
     so.sensor.sigma600_mm = o.noise_mm;
     so.sensor.outlier_fraction = o.outliers;
     so.sensor.noise_free = o.noise_free;
+    so.sensor.mismatch_patches = o.mismatch_patches;
     so.pose_error_deg = o.pose_error_deg;
     so.pose_error_mm = o.pose_error_mm;
     so.scene_only = o.scene_only;

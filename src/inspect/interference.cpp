@@ -210,6 +210,8 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   const double query_reach = reach + extra;
   std::vector<std::uint8_t> seen(cloud.size(), 0);
   std::vector<std::uint8_t> occluding(cloud.size(), 0);
+  std::vector<std::uint8_t> shadowing(cloud.size(), 0);  // beyond the clearance, its ray behind it within it
+  const double shadow_reach = r + (params.shadow_within_clearance ? params.clearance_mm : 0.0);
   std::vector<std::uint32_t> candidates;
   std::vector<Neighbor> nb;
   for (const Cylinder& c : chain) {
@@ -229,17 +231,19 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
                               : std::max(params.own_surface_band_mm, params.bridge_band_radii * r);
       if (gap < band || gap > params.clearance_mm + extra) continue;
       if (gap > params.clearance_mm) {
-        // Beyond the clearance: only a point over the cable that hides it (its ray, continued, hits it).
+        // Beyond the clearance: only a point whose unseen body may come within it: its ray, continued behind it
+        // (to the cable's far side), passes within shadow_reach of the cable's axis; it hides the cable when that
+        // ray hits it.
         const Eigen::Vector3d u = (p - params.sensor_position).normalized();
         const Eigen::Vector3d q = p + u * (gap + 2.0 * r);
-        bool hides = false;
-        for (const Cylinder& s : chain)
-          if (segment_distance(p, q, s.start, s.end) < r) {
-            hides = true;
-            break;
-          }
-        if (!hides) continue;
-        occluding[n.index] = 1;
+        double ray_axis = std::numeric_limits<double>::infinity();
+        for (const Cylinder& s : chain) {
+          ray_axis = std::min(ray_axis, segment_distance(p, q, s.start, s.end));
+          if (ray_axis < r) break;
+        }
+        if (!(ray_axis < shadow_reach)) continue;
+        occluding[n.index] = ray_axis < r ? 1 : 0;
+        shadowing[n.index] = 1;
         candidates.push_back(n.index);
         continue;
       }
@@ -265,9 +269,7 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   std::sort(candidates.begin(), candidates.end());
 
   // 2. Labels.
-  std::vector<Label> labels(candidates.size());
-  parallel_for_each_index(candidates.size(), [&](std::size_t i) {
-    const std::uint32_t idx = candidates[i];
+  const auto label_of = [&](std::uint32_t idx) {
     const Eigen::Vector3d p = cloud.points[idx].cast<double>();
     double best = params.label_tolerance_mm;
     Label l;
@@ -297,8 +299,10 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       }
     }
     if (l.kind == 2 && context.hidden_by_rigid && context.hidden_by_rigid(p)) l = {3, -1};  // a mixed pixel
-    labels[i] = l;
-  }, 256);
+    return l;
+  };
+  std::vector<Label> labels(candidates.size());
+  parallel_for_each_index(candidates.size(), [&](std::size_t i) { labels[i] = label_of(candidates[i]); }, 256);
 
   auto ignored = [&](int element) {
     return element >= 0 && std::find(ignore_elements.begin(), ignore_elements.end(), element) != ignore_elements.end();
@@ -422,6 +426,37 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   }
 
   const double tol = std::max(1.0, params.cluster_tolerance_factor * res);
+  // The whole object a foreign cluster belongs to (see InterferenceParams::min_object_area_mm2): the cluster grown
+  // (links within tol) over the cloud's points that lie on nothing known (a foreign candidate's label; not the
+  // cable's points nor its own surface band) until it holds object_cap points. True when it gets there, or when what
+  // it reached covers at least object_min pixels (points, without the sensor).
+  const std::size_t object_min =
+      std::max(min_size, static_cast<std::size_t>(std::ceil(params.min_object_area_mm2 / (res * res))));
+  const std::size_t object_cap = 4 * object_min;
+  std::vector<std::uint8_t> visited;  // all zero between calls
+  const auto whole_object_reaches = [&](const std::vector<std::uint32_t>& pts) {
+    if (visited.empty()) visited.assign(cloud.size(), 0);
+    std::vector<std::uint32_t> grown(pts.begin(), pts.end()), touched(pts.begin(), pts.end());
+    for (std::uint32_t i : pts) visited[i] = 1;
+    std::vector<Neighbor> around;
+    for (std::size_t q = 0; q < grown.size() && grown.size() < object_cap; ++q) {
+      tree.radius_unsorted(cloud.points[grown[q]], float(tol), around);
+      for (const Neighbor& n : around) {
+        if (visited[n.index]) continue;
+        visited[n.index] = 1;
+        touched.push_back(n.index);
+        if (contains_sorted(me.points, n.index)) continue;
+        const ChainPoint cp = distance_to_chain(chain, cloud.points[n.index].cast<double>());
+        if (!cp.beyond_end && cp.distance_mm - r < params.own_surface_band_mm) continue;
+        if (label_of(n.index).kind != 2) continue;
+        grown.push_back(n.index);
+      }
+    }
+    for (std::uint32_t i : touched) visited[i] = 0;
+    if (grown.size() >= object_cap) return true;
+    const std::size_t size = params.has_sensor ? image_footprint(cloud, grown, params).pixels.size() : grown.size();
+    return size >= object_min;
+  };
   // 3. Foreign points: clustered; small clusters are noise, veils are mixed pixels.
   for (const auto& [label, subset] : groups) {
     if (subset.size() < min_size) continue;
@@ -454,9 +489,13 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       }
       if (!std::isfinite(gap)) continue;
       f.min_distance_mm = std::max(0.0, gap);
-      for (std::uint32_t i : f.points) f.occluding_points += occluding[i];
-      const bool hides_cable = f.occluding_points >= min_size;
-      if (f.min_distance_mm >= params.clearance_mm && !hides_cable) continue;
+      std::size_t shadows = 0;
+      for (std::uint32_t i : f.points) {
+        f.occluding_points += occluding[i];
+        shadows += shadowing[i];
+      }
+      if (f.min_distance_mm >= params.clearance_mm && shadows < min_size) continue;
+      if (object_min > min_size && !whole_object_reaches(f.points)) continue;
       out.push_back(std::move(f));
     }
   }

@@ -98,4 +98,38 @@ void add_outliers(const Camera& camera, const std::vector<float>& depth, const S
   out.pixel.resize(total);
 }
 
+// See SensorParams::mismatch_patches. `valid` lists the measured pixels in increasing order (point k is valid[k]);
+// `depth` is each pixel's measured range, updated. Patches are drawn one after another from their own seeds.
+void add_mismatch_patches(const Camera& camera, const std::vector<std::uint32_t>& valid, std::vector<float>& depth,
+                          const SensorParams& params, ScanResult& out) {
+  const int w = camera.width_px, h = camera.height_px;
+  if (valid.empty()) return;
+  const int lo = std::max(1, std::min(params.mismatch_min_px, params.mismatch_max_px));
+  const int hi = std::max(lo, params.mismatch_max_px);
+  for (int patch = 0; patch < params.mismatch_patches; ++patch) {
+    Rng rng(mix(params.seed, static_cast<std::uint64_t>(patch), 5));
+    const std::uint32_t anchor = valid[rng.next() % valid.size()];
+    const int side = rng.integer(lo, hi);
+    const double offset_mm =
+        (rng.chance(0.5) ? 1.0 : -1.0) * rng.uniform(params.mismatch_min_mm, params.mismatch_max_mm);
+    const float d0 = depth[anchor];
+    const int c0 = static_cast<int>(anchor % w) - side / 2, r0 = static_cast<int>(anchor / w) - side / 2;
+    for (int r = std::max(0, r0); r < std::min(h, r0 + side); ++r)
+      for (int c = std::max(0, c0); c < std::min(w, c0 + side); ++c) {
+        const std::uint32_t p = static_cast<std::uint32_t>(r) * static_cast<std::uint32_t>(w) + static_cast<std::uint32_t>(c);
+        const auto it = std::lower_bound(valid.begin(), valid.end(), p);
+        if (it == valid.end() || *it != p) continue;
+        const std::size_t k = static_cast<std::size_t>(it - valid.begin());
+        if (out.kind[k] != PointKind::Surface || std::abs(depth[p] - d0) > 5.0f) continue;  // one surface a patch
+        const Eigen::Vector3d x = out.cloud.points[k].cast<double>();
+        const double range = x.norm();
+        if (!(range + offset_mm > 1.0)) continue;
+        out.cloud.points[k] = (x * ((range + offset_mm) / range)).cast<float>();
+        depth[p] = static_cast<float>(range + offset_mm);
+        out.kind[k] = PointKind::Mismatch;
+        ++out.mismatched;
+      }
+  }
+}
+
 }  // namespace ewis::sim

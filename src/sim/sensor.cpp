@@ -11,6 +11,8 @@ namespace ewis::sim {
 
 void add_outliers(const Camera& camera, const std::vector<float>& depth, const SensorParams& params,
                   ScanResult& out);  // outliers.cpp
+void add_mismatch_patches(const Camera& camera, const std::vector<std::uint32_t>& valid, std::vector<float>& depth,
+                          const SensorParams& params, ScanResult& out);  // outliers.cpp
 
 ScanResult scan(const Raycaster& caster, const Camera& camera, const Pose& camera_to_world,
                 const SensorParams& params) {
@@ -90,6 +92,7 @@ ScanResult scan(const Raycaster& caster, const Camera& camera, const Pose& camer
     depth[i] = static_cast<float>(dm);
   });
   out.surface_points = valid.size();
+  if (!params.noise_free && params.mismatch_patches > 0) add_mismatch_patches(camera, valid, depth, params, out);
   if (!params.noise_free && params.outlier_fraction > 0) add_outliers(camera, depth, params, out);
   out.outliers = out.cloud.size() - out.surface_points;
   return out;

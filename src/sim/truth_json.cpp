@@ -124,12 +124,14 @@ std::string truth_to_json(const SimScene& sim, const Pose& camera_to_cad, const 
     s["points"] = scan->cloud.size();
     s["surface_points"] = scan->surface_points;
     s["outliers"] = scan->outliers;
+    s["mismatched"] = scan->mismatched;
     s["camera_hits"] = scan->camera_hits;
     s["shadowed"] = scan->shadowed;
     s["grazing"] = scan->grazing;
     if (sensor) {
       s["sigma600_mm"] = sensor->noise_free ? 0.0 : sensor->sigma600_mm;
       s["outlier_fraction"] = sensor->noise_free ? 0.0 : sensor->outlier_fraction;
+      s["mismatch_patches"] = sensor->noise_free ? 0 : sensor->mismatch_patches;
       s["baseline_mm"] = sensor->baseline_mm;
       s["max_incidence_deg"] = sensor->max_incidence_deg;
     }

@@ -337,7 +337,9 @@ TEST(Interference, ManyPointsOnAFewRaysAreNoise) {
     }
     const KdTree tree(cloud.points);
     const SurfaceIndex rigid;
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, params_seen_from(sensor));
+    InterferenceParams p = params_seen_from(sensor);
+    p.min_object_area_mm2 = 0;  // the patch stands alone: only the cluster's own size is tested here
+    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
     EXPECT_EQ(found.size(), few_rays ? 0u : 1u);
   }
 }
@@ -476,7 +478,42 @@ TEST(Interference, StacksOfMixedPointsAreAVeil) {
     const SurfaceIndex rigid;
     InterferenceParams p = params_seen_from(sensor);
     p.min_cluster_area_mm2 = 3.0;  // 12 pixels at this resolution: the 16-pixel blob is large enough
+    p.min_object_area_mm2 = 0;     // ... and it stands alone: only the cluster's own size is tested here
     EXPECT_EQ(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).size(), stacked ? 0u : 1u);
+  }
+}
+
+// A stereo-mismatch patch (6 x 6 pixels at one wrong depth, 2 mm over the cable's top, standing alone in space) is
+// no object: the whole object must cover min_object_area_mm2 (16 mm^2, 64 pixels here). A strip of the same width
+// at the same height, running across the cable and on beyond the clearance (a cable tie's loose end, a wire
+// clipping), is one, though its part near the cable is no larger than the patch. Control: with the rule off the
+// patch is reported.
+TEST(Interference, AClumpStandingAloneIsNoiseAnObjectReachingBeyondIsNot) {
+  const double r = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Eigen::Vector3d sensor(50, 0, 600);
+  for (const double half_length : {1.5, 20.0}) {
+    Cloud cloud;
+    const MeasuredCable A = straight_cable_along_x(cloud, r);
+    for (int i = 0; i < 6; ++i)
+      for (double y = -half_length; y < half_length - 1e-9; y += kRes)
+        cloud.points.emplace_back(float(50.0 + kRes * i), float(y + 0.25), float(r + 2.0));
+    const KdTree tree(cloud.points);
+    const SurfaceIndex rigid;
+    InterferenceParams p = params_seen_from(sensor);
+    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+    if (half_length < 2.0) {
+      EXPECT_TRUE(found.empty()) << "a 3 x 3 mm clump standing alone was reported";
+      p.min_object_area_mm2 = 0;
+      const auto without = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+      ASSERT_EQ(without.size(), 1u);
+      EXPECT_NEAR(without[0].min_distance_mm, 2.0, 0.05);
+    } else {
+      ASSERT_EQ(found.size(), 1u);
+      EXPECT_FALSE(found[0].with.has_value());
+      EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.05);
+    }
   }
 }
 

@@ -130,6 +130,37 @@ TEST(Sensor, OutlierFractionAndKinds) {
     }
 }
 
+// Mismatch patches (SensorParams::mismatch_patches) move patches of surface pixels along their rays by 1-10 mm, in
+// place (a pixel still gives one depth); every other surface point is the same as without them.
+TEST(Sensor, MismatchPatchesMovePixelsAlongTheirRaysInPlace) {
+  Scene s;
+  add_mesh(s, "wall", make_box(V3(-2000, -2000, 800), V3(2000, 2000, 810)));
+  add_mesh(s, "step", make_box(V3(-50, -80, 600), V3(50, 80, 800)));
+  const Raycaster caster(s);
+  SensorParams p;
+  p.sigma600_mm = 0.1;
+  p.outlier_fraction = 0.2;
+  const ScanResult plain = scan(caster, small_camera(), kIdentity, p);
+  p.mismatch_patches = 200;
+  const ScanResult r = scan(caster, small_camera(), kIdentity, p);
+  ASSERT_EQ(r.surface_points, plain.surface_points);
+  EXPECT_GT(r.mismatched, 200u * 4u / 2u);  // patches of 2-6 px a side, some overlapping
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < r.surface_points; ++i) {
+    const Eigen::Vector3f a = plain.cloud.points[i], b = r.cloud.points[i];
+    if (r.kind[i] != PointKind::Mismatch) {
+      ASSERT_EQ(a, b) << i;
+      continue;
+    }
+    ++moved;
+    ASSERT_NEAR(a.normalized().dot(b.normalized()), 1.0, 1e-6);  // on the same ray
+    const double offset = double(b.norm()) - double(a.norm());
+    ASSERT_GE(std::abs(offset), 1.0 - 1e-3);
+    ASSERT_LE(std::abs(offset), 10.0 + 1e-3);
+  }
+  EXPECT_EQ(moved, r.mismatched);
+}
+
 TEST(Sensor, NoiseSigmaAlongTheRay) {
   Scene s;
   add_mesh(s, "plane", make_box(V3(-2000, -2000, 600), V3(2000, 2000, 610)));
