@@ -2,6 +2,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <utility>
 
@@ -689,10 +690,14 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         const int k = std::clamp(int(std::floor(0.5 * (sf.model.tau_of(x) + 1.0) * bins)), 0, bins - 1);
         stretch[std::size_t(k)].push_back(x);
       }
-      double top = 0;
+      std::vector<double> gains;
       for (const auto& pts_k : stretch)
         if (!pts_k.empty())
-          top = std::max(top, fillet_robust_cost(pts_k, rival.model, c) - smooth_tube_robust_cost(pts_k, sf.model, c));
+          gains.push_back(fillet_robust_cost(pts_k, rival.model, c) - smooth_tube_robust_cost(pts_k, sf.model, c));
+      std::sort(gains.begin(), gains.end(), std::greater<>());
+      double top = 0;
+      const std::size_t top_bins = static_cast<std::size_t>(std::max(0, params.smooth_spread_top_bins));
+      for (std::size_t k = 0; k < std::min(gains.size(), top_bins); ++k) top += std::max(0.0, gains[k]);
       if (!(ratio - 2.0 * top / sigma2 >= params.smooth_spread_min_log_likelihood_ratio)) return;
     }
     o.smooth = true;

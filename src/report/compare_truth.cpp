@@ -50,9 +50,27 @@ bool is_false(const json& e, const char* key) {
   return it != e.end() && it->is_boolean() && !it->get<bool>();
 }
 
-// The smallest min_distance_mm among the interferences of `cable` whose `with` matches (nullopt: null).
-// Returns false when there is none.
-bool match_interference(const json* cable, const std::optional<std::string>& with, double& gap_mm) {
+// A JSON array of 3 numbers, else nullopt.
+std::optional<Eigen::Vector3d> opt_point(const json& obj, const char* key) {
+  const auto it = obj.find(key);
+  if (it == obj.end() || !it->is_array() || it->size() != 3) return std::nullopt;
+  Eigen::Vector3d p;
+  for (int i = 0; i < 3; ++i) {
+    if (!(*it)[i].is_number()) return std::nullopt;
+    p[i] = (*it)[i].get<double>();
+  }
+  return p;
+}
+
+// A foreign object is found only by an entry near it: its closest point on the object or its centre within this of
+// the truth defect's `location` (the gap's spot on the cable), when the truth gives one. A clump of noise elsewhere
+// along the same cable is a false report, not the object found (the campaigns' objects are up to 40 mm long).
+constexpr double kForeignMatchMm = 30.0;
+
+// The smallest min_distance_mm among the interferences of `cable` whose `with` matches (nullopt: null) and, with
+// `near` given, whose closest_on_other or center lies within kForeignMatchMm of it. False when there is none.
+bool match_interference(const json* cable, const std::optional<std::string>& with, double& gap_mm,
+                        const std::optional<Eigen::Vector3d>& near = std::nullopt) {
   if (!cable) return false;
   const auto it = cable->find("interferences");
   if (it == cable->end() || !it->is_array()) return false;
@@ -63,6 +81,10 @@ bool match_interference(const json* cable, const std::optional<std::string>& wit
     const bool f_null = w == f.end() || w->is_null();
     const bool same = with ? (!f_null && w->is_string() && w->get<std::string>() == *with) : f_null;
     if (!same) continue;
+    if (near) {
+      const auto a = opt_point(f, "closest_on_other"), b = opt_point(f, "center");
+      if (!(a && (*a - *near).norm() <= kForeignMatchMm) && !(b && (*b - *near).norm() <= kForeignMatchMm)) continue;
+    }
     const double d = opt_number(f, "min_distance_mm").value_or(0.0);
     if (!any || d < gap_mm) gap_mm = d;
     any = true;
@@ -136,7 +158,8 @@ SceneEvaluation compare_with_truth(const std::string& report_json, const std::st
       c.truth_gap_mm = opt_number(d, "gap_mm");
       if (c.kind == "foreign_object") c.with.reset();  // foreign: `with` null by definition
       double gap = 0.0;
-      c.found = match_interference(cable, c.with, gap);
+      c.found = c.kind == "foreign_object" ? match_interference(cable, c.with, gap, opt_point(d, "location"))
+                                           : match_interference(cable, c.with, gap);
       // Cable to cable: one gap, which the report may list on either cable.
       if (!c.found && c.with) {
         const json* other = report_cable(*elements, *c.with);

@@ -116,7 +116,7 @@ void add_mismatch_patches(const Camera& camera, const std::vector<std::uint32_t>
     const int c0 = static_cast<int>(anchor % w) - side / 2, r0 = static_cast<int>(anchor / w) - side / 2;
     for (int r = std::max(0, r0); r < std::min(h, r0 + side); ++r)
       for (int c = std::max(0, c0); c < std::min(w, c0 + side); ++c) {
-        const std::uint32_t p = static_cast<std::uint32_t>(r) * static_cast<std::uint32_t>(w) + static_cast<std::uint32_t>(c);
+        const std::uint32_t p = static_cast<std::uint32_t>(r * w + c);
         const auto it = std::lower_bound(valid.begin(), valid.end(), p);
         if (it == valid.end() || *it != p) continue;
         const std::size_t k = static_cast<std::size_t>(it - valid.begin());

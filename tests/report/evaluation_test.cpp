@@ -98,6 +98,32 @@ TEST(CompareWithTruth, ForeignObjectIsAnInterferenceWithNull) {
   EXPECT_FALSE(found.defects[0].with);
 }
 
+// With the truth's `location` (the gap's spot on the cable), only an entry near it finds the object: a clump of
+// noise 70 mm along the cable does not (its closest_on_other and centre both far).
+TEST(CompareWithTruth, AForeignObjectIsFoundByAnEntryNearIt) {
+  const std::vector<json> defects = {{{"kind", "foreign_object"}, {"element", "cable_A"}, {"with", nullptr},
+                                      {"gap_mm", 3.3}, {"location", {10.0, 0.0, 0.0}}}};
+  const std::string t = truth({truth_cable("cable_A", nullptr)}, defects);
+  const auto at = [](json f, double x_other, double x_centre) {
+    f["closest_on_other"] = {x_other, 5.0, 0.0};
+    f["center"] = {x_centre, 8.0, 0.0};
+    return f;
+  };
+  const json clump = at(inter(nullptr, 7.8), 80.0, 82.0), object = at(inter(nullptr, 7.3), 12.0, 14.0);
+  const SceneEvaluation far = compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {clump})}), t, "s");
+  EXPECT_FALSE(far.defects[0].found);
+  EXPECT_EQ(far.outcome, VerdictOutcome::Correct);  // the verdict is right, the object not found
+  const SceneEvaluation near =
+      compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {clump, object})}), t, "s");
+  ASSERT_TRUE(near.defects[0].found);
+  EXPECT_NEAR(*near.defects[0].measured_gap_mm, 7.3, 1e-12);  // the near entry's gap, not the clump's
+  // Its centre alone near enough (a long object whose nearest point lies at its end) finds it too.
+  const json long_one = at(inter(nullptr, 2.0), 50.0, 30.0);
+  const SceneEvaluation by_centre =
+      compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {long_one})}), t, "s");
+  EXPECT_TRUE(by_centre.defects[0].found);
+}
+
 TEST(CompareWithTruth, MissingRadiusAndUnknownKinds) {
   const std::vector<json> defects = {{{"kind", "missing_clamp"}, {"element", "cable_A"}}};
   const std::string t = truth({truth_cable("cable_A", 50.0)}, defects);

@@ -7,7 +7,8 @@
 //      clearance       an interference on `element` whose `with` is the truth's `with` (when `with` is another
 //                      cable, the same interference reported on that cable towards `element` counts too: it
 //                      is one gap between two cables);
-//      foreign_object  an interference on `element` with `with` null;
+//      foreign_object  an interference on `element` with `with` null and, where the truth defect has a
+//                      `location`, its closest_on_other or center within 30 mm of it;
 //      other kinds     `element` not found, or bend_ok or clearance_ok false;
 //  - bend radius error % = |report min_bend_radius_mm - truth| / truth x 100, for each truth cable whose
 //    min_bend_radius_mm is not null and whose report value is not null (a null report value is counted apart);
