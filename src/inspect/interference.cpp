@@ -428,8 +428,9 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   const double tol = std::max(1.0, params.cluster_tolerance_factor * res);
   // The whole object a foreign cluster belongs to (see InterferenceParams::min_object_area_mm2): the cluster grown
   // (links within tol) over the cloud's points that lie on nothing known (a foreign candidate's label; not the
-  // cable's points nor its own surface band) until it holds object_cap points. True when it gets there, or when what
-  // it reached covers at least object_min pixels (points, without the sensor).
+  // cable's points nor its own surface band) until it holds object_cap points. True when it gets there, when what it
+  // reached covers at least object_min pixels (points, without the sensor), or when it covers the minimum cluster
+  // size and is at least min_object_length_mm long.
   const std::size_t object_min =
       std::max(min_size, static_cast<std::size_t>(std::ceil(params.min_object_area_mm2 / (res * res))));
   const std::size_t object_cap = 4 * object_min;
@@ -454,8 +455,23 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     }
     for (std::uint32_t i : touched) visited[i] = 0;
     if (grown.size() >= object_cap) return true;
-    const std::size_t size = params.has_sensor ? image_footprint(cloud, grown, params).pixels.size() : grown.size();
-    return size >= object_min;
+    // Its size in pixels (points without the sensor), and its length: the widest spread of those pixels (points).
+    std::vector<Eigen::Vector2d> pixels;
+    std::vector<Eigen::Vector3d> xs;
+    if (params.has_sensor) {
+      pixels = image_footprint(cloud, grown, params).pixels;
+    } else {
+      for (std::uint32_t i : grown) xs.push_back(cloud.points[i].cast<double>());
+    }
+    const std::size_t size = params.has_sensor ? pixels.size() : xs.size();
+    if (size >= object_min) return true;
+    if (size < min_size || !(params.min_object_length_mm > 0)) return false;
+    const double length_sq = params.min_object_length_mm * params.min_object_length_mm;
+    for (std::size_t a = 0; a < size; ++a)
+      for (std::size_t b = a + 1; b < size; ++b)
+        if ((params.has_sensor ? (pixels[a] - pixels[b]).squaredNorm() : (xs[a] - xs[b]).squaredNorm()) >= length_sq)
+          return true;
+    return false;
   };
   // 3. Foreign points: clustered; small clusters are noise, veils are mixed pixels.
   for (const auto& [label, subset] : groups) {

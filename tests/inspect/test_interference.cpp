@@ -517,6 +517,28 @@ TEST(Interference, AClumpStandingAloneIsNoiseAnObjectReachingBeyondIsNot) {
   }
 }
 
+// A wire clipping (two pixels wide, 12 mm long: 48 pixels, under the 64 of min_object_area_mm2) lying 2 mm over the
+// cable and across it is an object by its length (min_object_length_mm, 8 mm); with the length test off it is not.
+TEST(Interference, AWireClippingIsAnObjectByItsLength) {
+  const double r = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Eigen::Vector3d sensor(50, 0, 600);
+  Cloud cloud;
+  const MeasuredCable A = straight_cable_along_x(cloud, r);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 24; ++j) cloud.points.emplace_back(float(50.0 + kRes * i), float(-6.0 + kRes * j), float(r + 2.0));
+  const KdTree tree(cloud.points);
+  const SurfaceIndex rigid;
+  InterferenceParams p = params_seen_from(sensor);
+  const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_FALSE(found[0].with.has_value());
+  EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.05);
+  p.min_object_length_mm = 0;
+  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+}
+
 // A foreign strip lying across the cable splits its trace into two runs (0-44 mm and 56-100 mm): what lies in
 // the break is judged against a bridge over it, not dropped as lying beyond the cable's end.
 TEST(Interference, ObjectInABreakBetweenRunsIsFound) {

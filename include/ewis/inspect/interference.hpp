@@ -65,12 +65,17 @@ struct InterferenceParams {
   // over the cloud's points that lie on nothing known (not on a cable, a rigid surface or the cable's own band), not
   // only its part near the cable. A stereo sensor's mismatch patches (shiny or dark spots: a block of pixels at one
   // wrong depth, up to a few pixels a side) survive radius outlier removal as dense clumps standing alone in space;
-  // beside or over a cable they read as small objects (40 clean campaign scenes with 300 such patches of 2-6 px each:
-  // 34 false alarms before this rule, clumps of 14-36 points). A real object lying on or near the cable shows more
-  // of itself than the part within the clearance (the campaigns' smallest foreign objects, 3 mm spheres, grow to
-  // 100+ pixels; their parts near the cable were 18-33). 16 mm^2: 4 x 4 mm, 64 pixels at 0.5 mm; smaller objects are
-  // not told apart from mismatch patches by one shot.
+  // beside or over a cable they read as small objects (`ewis simulate --seed 4040 --campaign 40 --mismatch-patches
+  // 300`: 19 of its 20 clean scenes were false alarms, clumps of 14-36 points). A real object lying on or near the
+  // cable shows more of itself than its part within the clearance (the campaigns' smallest foreign objects, spheres
+  // of 3 mm radius, grow to 100+ pixels; their parts near the cable held 18-33). 16 mm^2: 4 x 4 mm, 64 pixels at
+  // 0.5 mm; smaller compact objects are not told apart from mismatch patches by one shot.
   double min_object_area_mm2 = 16.0;
+  // ... or, smaller (but at least the minimum cluster size), when it is at least min_object_length_mm long as the
+  // sensor sees it (the widest spread of its pixels): a wire clipping (safety wire of 0.8 mm: 1-2 pixels wide) lying
+  // over a cable is a classic foreign object, and no mismatch patch (a matching window's block, 3 mm across at most
+  // here, 4.2 mm corner to corner) is that long. 0: the area alone.
+  double min_object_length_mm = 8.0;
   double label_tolerance_mm = 2.5;      // registration + noise: a point this near a surface lies on it
   double own_surface_band_mm = 1.0;
   double surface_step_mm = 0.25;        // sampling step along the axis for the gap to CAD triangles
