@@ -456,21 +456,19 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
     for (std::uint32_t i : touched) visited[i] = 0;
     if (grown.size() >= object_cap) return true;
     // Its size in pixels (points without the sensor), and its length: the widest spread of those pixels (points).
-    std::vector<Eigen::Vector2d> pixels;
-    std::vector<Eigen::Vector3d> xs;
+    std::vector<Eigen::Vector3d> spots;
     if (params.has_sensor) {
-      pixels = image_footprint(cloud, grown, params).pixels;
+      for (const Eigen::Vector2d& px : image_footprint(cloud, grown, params).pixels)
+        spots.emplace_back(px.x(), px.y(), 0.0);
     } else {
-      for (std::uint32_t i : grown) xs.push_back(cloud.points[i].cast<double>());
+      for (std::uint32_t i : grown) spots.push_back(cloud.points[i].cast<double>());
     }
-    const std::size_t size = params.has_sensor ? pixels.size() : xs.size();
-    if (size >= object_min) return true;
-    if (size < min_size || !(params.min_object_length_mm > 0)) return false;
+    if (spots.size() >= object_min) return true;
+    if (spots.size() < min_size || !(params.min_object_length_mm > 0)) return false;
     const double length_sq = params.min_object_length_mm * params.min_object_length_mm;
-    for (std::size_t a = 0; a < size; ++a)
-      for (std::size_t b = a + 1; b < size; ++b)
-        if ((params.has_sensor ? (pixels[a] - pixels[b]).squaredNorm() : (xs[a] - xs[b]).squaredNorm()) >= length_sq)
-          return true;
+    for (std::size_t a = 0; a < spots.size(); ++a)
+      for (std::size_t b = a + 1; b < spots.size(); ++b)
+        if ((spots[a] - spots[b]).squaredNorm() >= length_sq) return true;
     return false;
   };
   // 3. Foreign points: clustered; small clusters are noise, veils are mixed pixels.

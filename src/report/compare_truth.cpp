@@ -50,16 +50,17 @@ bool is_false(const json& e, const char* key) {
   return it != e.end() && it->is_boolean() && !it->get<bool>();
 }
 
-// A JSON array of 3 numbers, else nullopt.
+// A JSON array of 3 numbers as a point, else nullopt.
+std::optional<Eigen::Vector3d> as_point(const json& q) {
+  if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number())
+    return std::nullopt;
+  return Eigen::Vector3d(q[0].get<double>(), q[1].get<double>(), q[2].get<double>());
+}
+
+// The point under `key`, else nullopt.
 std::optional<Eigen::Vector3d> opt_point(const json& obj, const char* key) {
   const auto it = obj.find(key);
-  if (it == obj.end() || !it->is_array() || it->size() != 3) return std::nullopt;
-  Eigen::Vector3d p;
-  for (int i = 0; i < 3; ++i) {
-    if (!(*it)[i].is_number()) return std::nullopt;
-    p[i] = (*it)[i].get<double>();
-  }
-  return p;
+  return it == obj.end() ? std::nullopt : as_point(*it);
 }
 
 // A foreign object is found only by an entry near it: its closest point on the object or its centre within this of
@@ -206,8 +207,9 @@ SceneEvaluation compare_with_truth(const std::string& report_json, const std::st
       const auto cl = t.find("centerline");
       if (cl == t.end() || !cl->is_array()) continue;
       for (const json& q : *cl) {
-        if (!q.is_array() || q.size() != 3 || !q[0].is_number() || !q[1].is_number() || !q[2].is_number()) continue;
-        const Eigen::Vector4d p(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), 1.0);
+        const std::optional<Eigen::Vector3d> point = as_point(q);
+        if (!point) continue;
+        const Eigen::Vector4d p = point->homogeneous();
         worst = std::max(worst, (diff * p - p).head<3>().norm());
         any = true;
       }

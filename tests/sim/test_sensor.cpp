@@ -21,6 +21,14 @@ const Pose kIdentity = Pose::Identity();
 
 Camera small_camera() { return Camera{320, 256, 58.0}; }
 
+// A 100 x 160 mm step 600 mm in front of the sensor, on a wall 200 mm behind it: depth edges all round the step.
+Scene step_before_wall() {
+  Scene s;
+  add_mesh(s, "wall", make_box(V3(-2000, -2000, 800), V3(2000, 2000, 810)));
+  add_mesh(s, "step", make_box(V3(-50, -80, 600), V3(50, 80, 800)));
+  return s;
+}
+
 SensorParams noise_free() {
   SensorParams p;
   p.noise_free = true;
@@ -109,9 +117,7 @@ TEST(Sensor, StereoShadowBesideAStepOnTheProjectorsOppositeSide) {
 }
 
 TEST(Sensor, OutlierFractionAndKinds) {
-  Scene s;
-  add_mesh(s, "wall", make_box(V3(-2000, -2000, 800), V3(2000, 2000, 810)));
-  add_mesh(s, "step", make_box(V3(-50, -80, 600), V3(50, 80, 800)));
+  const Scene s = step_before_wall();
   const Raycaster caster(s);
   SensorParams p;
   p.outlier_fraction = 0.4;
@@ -133,9 +139,7 @@ TEST(Sensor, OutlierFractionAndKinds) {
 // Mismatch patches (SensorParams::mismatch_patches) move patches of surface pixels along their rays by 1-10 mm, in
 // place (a pixel still gives one depth); every other surface point is the same as without them.
 TEST(Sensor, MismatchPatchesMovePixelsAlongTheirRaysInPlace) {
-  Scene s;
-  add_mesh(s, "wall", make_box(V3(-2000, -2000, 800), V3(2000, 2000, 810)));
-  add_mesh(s, "step", make_box(V3(-50, -80, 600), V3(50, 80, 800)));
+  const Scene s = step_before_wall();
   const Raycaster caster(s);
   SensorParams p;
   p.sigma600_mm = 0.1;
