@@ -429,8 +429,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     std::vector<double>& scales = o.scales;
     FilletFit& f = o.fit;
     // The shape of a bend (a fit that did not converge may still bound the radius: see below).
+    const double init_turn_deg = init.turn_rad() * 180.0 / M_PI, fit_turn_deg = f.model.turn_rad() * 180.0 / M_PI;
     const bool shaped = std::isfinite(f.model.bend_radius_mm) && std::isfinite(f.bend_radius_se_mm) &&
-                        f.model.turn_rad() * 180.0 / M_PI >= params.min_turn_deg &&
+                        fit_turn_deg >= params.min_turn_deg &&
+                        fit_turn_deg - init_turn_deg <=
+                            std::max(params.max_turn_excess_deg, params.max_turn_excess_fraction * init_turn_deg) &&
                         std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.tube_radius_tolerance * tube_radius_mm &&
                         (f.model.vertex - centre).norm() <= cands[k].half_window_mm &&
                         f.model.bend_radius_mm <= 100.0 * diameter_mm;

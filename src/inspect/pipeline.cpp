@@ -17,6 +17,7 @@
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/run_conflicts.hpp"
 #include "ewis/inspect/run_joins.hpp"
+#include "ewis/inspect/surface_clumps.hpp"
 #include "ewis/scene/surface_index.hpp"
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/register/sensor_origin.hpp"
@@ -461,12 +462,44 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     fs.usable = &usable;
     fs.has_sensor = res.sensor_at_scan_origin;
     fs.sensor_position = res.sensor_position;
+    // Clumps standing off a run's surface by a step (a sensor's matching errors, surface_clumps.hpp), among the scan
+    // points in and around its tube, are left out of the bend fits: out of each run's surface points, and out of the
+    // scan points the fits gather again.
+    std::vector<std::uint8_t> clump_free;  // `usable` without them (empty: none found)
+    if (res.sensor_at_scan_origin && params.surface_clumps.enabled) {
+      std::vector<Neighbor> nbs;
+      for (const TubeTrace& run : ci.runs) {
+        // The usable points within the tube (a patch moved into it lies off the trace's band) and a margin around it
+        // (the band the fits gather again in); `near` in the tree's visiting order, each once.
+        const double reach = run.radius_mm + std::max(params.surface_clumps.margin_mm,
+                                                      params.surface_clumps.margin_radii * run.radius_mm);
+        std::vector<std::uint32_t> near;
+        for (const Eigen::Vector3d& c : run.centerline) {
+          tree.radius_unsorted(c.cast<float>(), float(reach), nbs);
+          for (const Neighbor& nb : nbs)
+            if (usable[nb.index]) near.push_back(nb.index);
+        }
+        std::sort(near.begin(), near.end());
+        near.erase(std::unique(near.begin(), near.end()), near.end());
+        std::vector<Eigen::Vector3d> surface;
+        surface.reserve(near.size());
+        for (std::uint32_t i : near) surface.push_back(cloud.points[i].cast<double>());
+        const SurfaceClumps sc = surface_step_clumps(surface, run.centerline, run.radius_mm, res.sensor_position,
+                                                     res.resolution_mm, params.surface_clumps);
+        if (sc.points.empty()) continue;
+        if (clump_free.empty()) clump_free = usable;
+        for (std::uint32_t j : sc.points) clump_free[near[j]] = 0;
+      }
+      if (!clump_free.empty()) fs.usable = &clump_free;
+    }
+    const auto kept = [&](std::uint32_t i) { return clump_free.empty() || clump_free[i]; };
     for (std::size_t k = 0; k < ci.runs.size(); ++k) {
       BendRadiusResult b = measure_bend_radius(ci.runs[k].centerline, ci.nominal_diameter_mm, params.bend);
       // Tight bends again, on the run's surface points (a short arc is a corner to any centreline window).
       std::vector<Eigen::Vector3d> surface;
       surface.reserve(ci.runs[k].points.size());
-      for (std::uint32_t i : ci.runs[k].points) surface.push_back(cloud.points[i].cast<double>());
+      for (std::uint32_t i : ci.runs[k].points)
+        if (kept(i)) surface.push_back(cloud.points[i].cast<double>());
       refine_bends_with_fillets(b, ci.runs[k].centerline, surface, ci.runs[k].radius_mm, ci.nominal_diameter_mm,
                                 params.fillet, fs);
       const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
@@ -487,7 +520,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
         const std::vector<std::uint32_t> under = points_under_something(
             j, cloud.points, tree, &usable, res.sensor_position, ci.nominal_diameter_mm, params.joins);
         if (!under.empty()) {
-          join_usable = usable;
+          join_usable = *fs.usable;
           for (std::uint32_t i : under) join_usable[i] = 0;
           join_scan.usable = &join_usable;
         }
@@ -495,7 +528,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       std::vector<Eigen::Vector3d> surface;
       surface.reserve(j.points.size());
       for (std::uint32_t i : j.points)
-        if (join_usable.empty() || join_usable[i]) surface.push_back(cloud.points[i].cast<double>());
+        if (join_usable.empty() ? kept(i) : join_usable[i]) surface.push_back(cloud.points[i].cast<double>());
       refine_bends_with_fillets(b, j.centerline, surface, j.radius_mm, ci.nominal_diameter_mm, params.fillet,
                                 join_scan);
       if (!b.min_radius_mm || !b.location || std::string_view(b.min_radius_model) != "fillet") continue;

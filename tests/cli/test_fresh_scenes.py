@@ -10,14 +10,14 @@ import unittest
 from ewis_cli import run, tmpdir, validate
 
 
-def simulate_and_inspect(name, seed, *defect):
+def simulate_and_inspect(name, seed, *defect, pose=True):
     d = tmpdir(name)
     scene = os.path.join(d, "scene")
     out = os.path.join(d, "out")
     run("simulate", "--out", scene, "--seed", seed, *defect, "--quiet", check=0)
+    initial = ["--pose", os.path.join(scene, "pose.txt")] if pose else []
     run("inspect", "--cad", os.path.join(scene, "scene.obj"), "--plan", os.path.join(scene, "plan.json"),
-        "--scan", os.path.join(scene, "scan.ply"), "--pose", os.path.join(scene, "pose.txt"), "--out", out,
-        "--quiet", check=0)
+        "--scan", os.path.join(scene, "scan.ply"), *initial, "--out", out, "--quiet", check=0)
     with open(os.path.join(scene, "truth.json")) as f:
         truth = json.load(f)
     with open(os.path.join(out, "report.json")) as f:
@@ -126,15 +126,29 @@ class FreshScenes(unittest.TestCase):
         self.assertEqual(report["verdict"], "pass")
 
     def test_a_mismatch_patch_on_a_thin_cable_does_not_bend_the_smooth_tube(self):
-        # Seed 4040's scene_004 with 300 mismatch patches: one of 32 points sits 1.4 mm deep in the 3.6 mm cable_B.
-        # The quartic tube bent to it and read 17.42 mm for a 49.74 mm bend (its advantage +18.5 and +12.9 in two
-        # neighbouring stretches of eight, -3.1 over the rest): a false bend alarm. Two stretches are set aside
-        # (FilletRefineParams::smooth_spread_top_bins).
-        truth, report = simulate_and_inspect("fresh_m004", 12497757700967302806, "--mismatch-patches", "300")
+        # Seed 4040's scene_004 with 300 mismatch patches, inspected without its pose: a patch of 12 points sits 1.4 mm
+        # deep in the 3.7 mm cable_B. The quartic tube bent to it and read 18.51 mm for a 49.74 mm bend (with the pose,
+        # 17.42 before FilletRefineParams::smooth_spread_top_bins): a false bend alarm. The patch stands off the tube
+        # by a step and is left out of the bend fits (surface_clumps.hpp).
+        truth, report = simulate_and_inspect("fresh_m004", 12497757700967302806, "--mismatch-patches", "300",
+                                             pose=False)
         t, b = truth_and_report_cable(truth, report, "cable_B")
         self.assert_bend_within_5_percent(b, t)
         self.assertEqual(report["verdict"], "pass")
 
+    def test_a_mismatch_patch_at_a_runs_end_is_no_hairpin(self):
+        # Seed 4040's scene_038 with 300 mismatch patches, inspected without its pose: a 4 x 4 px patch 1.44 mm in
+        # front of the 4.5 mm cable_A ends its trace from both sides, and a fillet at a run's end fitted a 162 deg
+        # hairpin of 2.78 +- 0.07 mm where the centreline turns 24 deg (a false alarm; the cable's tightest bend is
+        # 44.23 mm, allowed 20.25). A fit turning more than the centreline by over max(60 deg, its turn) is refused
+        # (FilletRefineParams::max_turn_excess_deg). The cable's bend then reads 41.66 mm, as with the pose (-5.8 %,
+        # one of the noise-limited readings in bench/RESULTS.md).
+        truth, report = simulate_and_inspect("fresh_m038", 2827067339720150427, "--mismatch-patches", "300",
+                                             pose=False)
+        t, a = truth_and_report_cable(truth, report, "cable_A")
+        self.assertGreater(a["min_bend_radius_mm"], 0.85 * t["min_bend_radius_mm"])
+        self.assertTrue(a["bend_ok"])
+        self.assertEqual(report["verdict"], "pass")
 
 if __name__ == "__main__":
     unittest.main()

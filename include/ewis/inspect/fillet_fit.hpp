@@ -166,6 +166,13 @@ struct FilletRefineParams {
   // the other's holds it whole (there 28.86 +- 0.48 for 28.75). See arcs_cut_by_their_windows. False: off.
   bool cut_arcs_held_elsewhere = true;
   double min_turn_deg = 4.0;          // a fit turning less is a straight run, not a bend
+  // ... and one turning more than the centreline does across its window (its legs' lines, from the window's outer
+  // thirds) by over max(max_turn_excess_deg, max_turn_excess_fraction x that turn) fits something else: a stereo-
+  // mismatch patch at a run's end (M40 scene_038 without a pose: a 162 deg hairpin of 2.78 mm where the centreline
+  // turns 24 deg). On the campaign, fits exceed the centreline's turn by at most 37 deg (inside long arcs, whose
+  // outer thirds' lines turn less than the whole window).
+  double max_turn_excess_deg = 60.0;
+  double max_turn_excess_fraction = 1.0;
   double max_se_fraction = 0.15;      // the fit's radius must be known to this fraction (1 standard error) ...
   double max_se_fraction_vs_circle = 0.5;  // ... or to this one when it lies over 2 standard errors below the
                                            // circle windows' radius there AND the data prefer it: the same model

@@ -17,6 +17,7 @@
 #include "ewis/inspect/bend_radius.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
 #include "ewis/inspect/interference.hpp"
+#include "ewis/inspect/surface_clumps.hpp"
 #include "ewis/io/plan_file.hpp"
 #include "ewis/register/cad_target.hpp"
 #include "ewis/register/scan_to_cad.hpp"
@@ -63,6 +64,7 @@ struct InspectParams {
   double untangle_margin_mm = 2.0;
   BendRadiusParams bend;
   FilletRefineParams fillet;            // tight bends re-measured on the surface points
+  SurfaceClumpParams surface_clumps;    // left out of the bend fits (surface_clumps.hpp)
   RunJoinParams joins;                  // a bend hidden between two runs, measured across the gap (run_joins.hpp)
   PaperBendParams paper_bend;
   InterferenceParams interference;      // clearance_mm and resolution_mm are set per cable / scan
