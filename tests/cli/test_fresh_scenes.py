@@ -126,10 +126,11 @@ class FreshScenes(unittest.TestCase):
         self.assertEqual(report["verdict"], "pass")
 
     def test_a_mismatch_patch_on_a_thin_cable_does_not_bend_the_smooth_tube(self):
-        # Seed 4040's scene_004 with 300 mismatch patches, inspected without its pose: a patch of 12 points sits 1.4 mm
-        # deep in the 3.7 mm cable_B. The quartic tube bent to it and read 18.51 mm for a 49.74 mm bend (with the pose,
-        # 17.42 before FilletRefineParams::smooth_spread_top_bins): a false bend alarm. The patch stands off the tube
-        # by a step and is left out of the bend fits (surface_clumps.hpp).
+        # Seed 4040's scene_004 with 300 mismatch patches, inspected without its pose: a patch of 6 x 6 px (32 points)
+        # sits 1.4 mm deep in the 3.7 mm cable_B, across its whole seen width. The quartic tube bent to it and read
+        # 18.51 mm for a 49.74 mm bend (with the pose, 17.42 before FilletRefineParams::smooth_spread_top_bins): a
+        # false bend alarm. The patch stands off the tube by a step and is left out of the bend fits
+        # (surface_clumps.hpp).
         truth, report = simulate_and_inspect("fresh_m004", 12497757700967302806, "--mismatch-patches", "300",
                                              pose=False)
         t, b = truth_and_report_cable(truth, report, "cable_B")
@@ -149,6 +150,7 @@ class FreshScenes(unittest.TestCase):
         self.assertGreater(a["min_bend_radius_mm"], 0.85 * t["min_bend_radius_mm"])
         self.assertTrue(a["bend_ok"])
         self.assertEqual(report["verdict"], "pass")
+
 
 if __name__ == "__main__":
     unittest.main()
