@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ewis/core/cylinder.hpp"
 #include "ewis/core/parallel.hpp"
 #include "ewis/core/robust.hpp"
 #include "ewis/filter/euclidean_clusters.hpp"
@@ -11,13 +12,6 @@
 
 namespace ewis {
 namespace {
-
-double segment_point_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& p) {
-  const Eigen::Vector3d ab = b - a;
-  const double len_sq = ab.squaredNorm();
-  const double t = len_sq > 0 ? std::clamp((p - a).dot(ab) / len_sq, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 // Distance across the ray from the sensor through `on_ray` between it and `q`.
 double across_ray(const Eigen::Vector3d& on_ray, const Eigen::Vector3d& sensor, const Eigen::Vector3d& q) {
@@ -45,8 +39,9 @@ SurfaceClumps surface_step_clumps(const std::vector<Eigen::Vector3d>& points,
   parallel_for_each_index(points.size(), [&](std::size_t i) {
     const std::uint32_t j = cl_tree.nearest(points[i].cast<float>()).index;
     double d = (centerline[j] - points[i]).norm();
-    if (j > 0) d = std::min(d, segment_point_distance(centerline[j - 1], centerline[j], points[i]));
-    if (j + 1 < centerline.size()) d = std::min(d, segment_point_distance(centerline[j], centerline[j + 1], points[i]));
+    if (j > 0) d = std::min(d, distance_to_segment(Cylinder{centerline[j - 1], centerline[j], 0.0}, points[i]));
+    if (j + 1 < centerline.size())
+      d = std::min(d, distance_to_segment(Cylinder{centerline[j], centerline[j + 1], 0.0}, points[i]));
     offset[i] = d - tube_radius_mm;
   }, 4096);
   double median = 0.0, sigma = 0.0;

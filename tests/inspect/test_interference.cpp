@@ -496,9 +496,7 @@ TEST(Interference, AClumpStandingAloneIsNoiseAnObjectReachingBeyondIsNot) {
   for (const double half_length : {1.5, 20.0}) {
     Cloud cloud;
     const MeasuredCable A = straight_cable_along_x(cloud, r);
-    for (int i = 0; i < 6; ++i)
-      for (double y = -half_length; y < half_length - 1e-9; y += kRes)
-        cloud.points.emplace_back(float(50.0 + kRes * i), float(y + 0.25), float(r + 2.0));
+    add_top_face(cloud, {50.0, 0.25 - half_length, r + 2.0}, {50.0 + 5 * kRes, half_length - 0.25, r + 2.0});
     const KdTree tree(cloud.points);
     const SurfaceIndex rigid;
     InterferenceParams p = params_seen_from(sensor);
@@ -526,8 +524,7 @@ TEST(Interference, AWireClippingIsAnObjectByItsLength) {
   const Eigen::Vector3d sensor(50, 0, 600);
   Cloud cloud;
   const MeasuredCable A = straight_cable_along_x(cloud, r);
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 24; ++j) cloud.points.emplace_back(float(50.0 + kRes * i), float(-6.0 + kRes * j), float(r + 2.0));
+  add_top_face(cloud, {50.0, -6.0, r + 2.0}, {50.0 + kRes, -6.0 + 23 * kRes, r + 2.0});
   const KdTree tree(cloud.points);
   const SurfaceIndex rigid;
   InterferenceParams p = params_seen_from(sensor);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ewis/core/cylinder.hpp"
 #include "ewis/inspect/surface_clumps.hpp"
 #include "paths.hpp"
 
@@ -40,11 +41,8 @@ double largest_offset(const std::vector<Eigen::Vector3d>& pts, const std::vector
   double worst = 0.0;
   for (const Eigen::Vector3d& p : pts) {
     double d = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
-      const Eigen::Vector3d ab = line[i + 1] - line[i];
-      const double t = std::clamp((p - line[i]).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      d = std::min(d, (line[i] + t * ab - p).norm());
-    }
+    for (std::size_t i = 0; i + 1 < line.size(); ++i)
+      d = std::min(d, distance_to_segment(Cylinder{line[i], line[i + 1], 0.0}, p));
     worst = std::max(worst, d - r);
   }
   return worst;

@@ -47,8 +47,8 @@ struct SurfaceClumps {
   double sigma_mm = 0.0;              // the robust sigma of the offsets
 };
 
-// `points`: the points in and around a cable's tube; `centerline`: its measured centreline (ordered, >= 2 points), `tube_radius_mm`
-// its radius; `sensor`: the sensor's position (same frame). Deterministic.
+// `points`: the points in and around a cable's tube; `centerline`: its measured centreline (ordered, >= 2 points),
+// `tube_radius_mm` its radius; `sensor`: the sensor's position (same frame). Deterministic.
 SurfaceClumps surface_step_clumps(const std::vector<Eigen::Vector3d>& points,
                                   const std::vector<Eigen::Vector3d>& centerline, double tube_radius_mm,
                                   const Eigen::Vector3d& sensor, double resolution_mm,
