@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "ewis/core/parallel.hpp"
 #include "ewis/core/robust.hpp"
@@ -435,12 +436,13 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       std::max(min_size, static_cast<std::size_t>(std::ceil(params.min_object_area_mm2 / (res * res))));
   const std::size_t object_cap = 4 * object_min;
   std::vector<std::uint8_t> visited;  // all zero between calls
-  const auto whole_object_reaches = [&](const std::vector<std::uint32_t>& pts) {
+  // The cluster grown over such points until it holds `cap`.
+  const auto grow_object = [&](const std::vector<std::uint32_t>& pts, std::size_t cap) {
     if (visited.empty()) visited.assign(cloud.size(), 0);
     std::vector<std::uint32_t> grown(pts.begin(), pts.end()), touched(pts.begin(), pts.end());
     for (std::uint32_t i : pts) visited[i] = 1;
     std::vector<Neighbor> around;
-    for (std::size_t q = 0; q < grown.size() && grown.size() < object_cap; ++q) {
+    for (std::size_t q = 0; q < grown.size() && grown.size() < cap; ++q) {
       tree.radius_unsorted(cloud.points[grown[q]], float(tol), around);
       for (const Neighbor& n : around) {
         if (visited[n.index]) continue;
@@ -454,6 +456,10 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       }
     }
     for (std::uint32_t i : touched) visited[i] = 0;
+    return grown;
+  };
+  const auto whole_object_reaches = [&](const std::vector<std::uint32_t>& pts) {
+    const std::vector<std::uint32_t> grown = grow_object(pts, object_cap);
     if (grown.size() >= object_cap) return true;
     // Its size in pixels (points without the sensor), and its length: the widest spread of those pixels (points).
     std::vector<Eigen::Vector3d> spots;
@@ -470,6 +476,30 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       for (std::size_t b = a + 1; b < spots.size(); ++b)
         if ((spots[a] - spots[b]).squaredNorm() >= length_sq) return true;
     return false;
+  };
+  // The cable's own CAD samples that none of its runs traced (InterferenceParams::own_part_*), found when first needed.
+  std::vector<Eigen::Vector3f> untraced;  // the tree may use them in place
+  std::optional<KdTree> untraced_tree;
+  const auto own_untraced_part = [&](const std::vector<std::uint32_t>& pts) {
+    if (!context.cable_cad || !context.own_cad_samples || context.own_cad_samples->empty() || me.element < 0)
+      return false;
+    if (!untraced_tree) {
+      for (const Eigen::Vector3d& s : *context.own_cad_samples)
+        if (distance_to_chain(chain, s).distance_mm > context.own_cad_traced_within_mm) untraced.push_back(s.cast<float>());
+      untraced_tree.emplace(untraced);
+    }
+    if (untraced_tree->size() == 0) return false;
+    const std::vector<std::uint32_t> grown = grow_object(pts, std::max(params.own_part_max_points, pts.size()));
+    const float reach = float(params.label_tolerance_mm + context.own_cad_spacing_mm);
+    std::size_t on_own = 0, on_untraced = 0;
+    for (std::uint32_t i : grown) {
+      const Eigen::Vector3d p = cloud.points[i].cast<double>();
+      on_untraced += untraced_tree->nearest(cloud.points[i], reach, ~0u).index != ~0u;
+      const SurfacePoint s = context.cable_cad->closest(p, params.label_tolerance_mm);
+      on_own += s.found() && s.element == me.element &&
+                s.distance_mm + params.own_part_margin_mm < distance_to_chain(chain, p).distance_mm - r;
+    }
+    return on_untraced >= min_size && double(on_own) >= params.own_part_min_fraction * double(grown.size());
   };
   // 3. Foreign points: clustered; small clusters are noise, veils are mixed pixels.
   for (const auto& [label, subset] : groups) {
@@ -510,6 +540,10 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       }
       if (f.min_distance_mm >= params.clearance_mm && shadows < min_size) continue;
       if (object_min > min_size && !whole_object_reaches(f.points)) continue;
+      if (own_untraced_part(f.points)) {
+        if (context.untraced_parts) context.untraced_parts->push_back(f.center);
+        continue;
+      }
       out.push_back(std::move(f));
     }
   }

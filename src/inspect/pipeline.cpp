@@ -2,6 +2,7 @@
 #include "ewis/inspect/pipeline.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -220,11 +221,19 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     std::vector<Eigen::Vector3d> points;
     std::vector<std::uint8_t> seen;
   };
+  const auto cad_spacing_mm = [&](std::size_t c) {
+    return params.cable_sample_spacing_mm > 0 ? params.cable_sample_spacing_mm
+                                              : std::max(0.5, 0.25 * cable_plans[c]->diameter_mm);
+  };
+  // A CAD cable sample is covered by a run within this of its chain; a cable displaced from its CAD by more than its
+  // radius is looked for as far.
+  const auto cover_mm = [&](std::size_t c) {
+    return std::max(params.covered_radii * 0.5 * cable_plans[c]->diameter_mm, params.covered_min_mm);
+  };
   const auto cad_seeds = [&](std::size_t c) {
     CadSeeds out;
-    const double radius = 0.5 * cable_plans[c]->diameter_mm;
     MeshSamplingParams sp;
-    sp.spacing_mm = params.cable_sample_spacing_mm > 0 ? params.cable_sample_spacing_mm : std::max(0.5, radius / 2);
+    sp.spacing_mm = cad_spacing_mm(c);
     sp.elements = {scene.find(cable_plans[c]->name)};
     sp.seed = 1 + c;
     sp.max_points = 200000;
@@ -265,9 +274,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     TubeParams tp;
     tp.radius_mm = radius;
     tp.max_seed_radius_ratio = params.max_seed_radius_ratio;
-    // A CAD cable sample is covered by a run within `cover` of its chain; a cable displaced from its CAD by
-    // more than its radius is looked for as far.
-    const double cover = std::max(params.covered_radii * radius, params.covered_min_mm);
+    const double cover = cover_mm(c);
     tp.seed_search_mm = cover;
     tp.resolution_mm = res.resolution_mm;
     tp.has_sensor = true;
@@ -508,6 +515,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
         best_run = k;
       }
     }
+    ci.forks = run_forks(ci.runs, ci.nominal_diameter_mm, params.joins);
     // A bend hidden between two runs (an occluder across it split the cable there): measured across the gap by the
     // fillet on both sides' surface points; the straight line drawn over the gap is no measurement, so only a
     // fillet reading at the gap counts.
@@ -576,6 +584,10 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     ip.sensor_position = res.sensor_position;
     InterferenceContext context;
     context.cable_cad = &cable_cad;
+    context.own_cad_samples = &seeds_of[c].points;
+    context.own_cad_spacing_mm = cad_spacing_mm(c);
+    context.own_cad_traced_within_mm = cover_mm(c);
+    context.untraced_parts = &ci.untraced_parts;
     // Every CAD element but this cable may hide a point from the sensor (then it is a mixed pixel).
     const auto own = static_cast<std::uint32_t>(ci.element);
     context.hidden_by_rigid = [&caster, sensor, hidden_margin, own](const Eigen::Vector3d& p) {
@@ -600,6 +612,19 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     ci.interferences = find_interferences(cloud, tree, scene, rigid_surfaces, measured, c, ignore, ip, context);
     ci.clearance_ok = ci.interferences.empty();
   });
+  const auto where = [](const Eigen::Vector3d& p) {
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.1f, %.1f, %.1f)", p.x(), p.y(), p.z());
+    return std::string(text);
+  };
+  for (const CableInspection& ci : res.cables) {
+    for (const Eigen::Vector3d& p : ci.forks)
+      res.warnings.push_back(ci.name + ": forks at " + where(p) +
+                             " (a branch traced as a run of its own: no bend is measured across the fork)");
+    for (const Eigen::Vector3d& p : ci.untraced_parts)
+      res.warnings.push_back(ci.name + ": part of its CAD seen at " + where(p) +
+                             " was not traced (a branch of another diameter than the plan's?); it is not inspected");
+  }
   clock.lap("interference");
   return_free_heap_to_os();  // before the caller writes reports and pictures
 

@@ -95,6 +95,13 @@ void write_cable(std::ostringstream& o, const CableInspection& c) {
   if (!c.interferences.empty()) o << "\n" << in;
   o << "],\n";
   o << in << "\"clearance_ok\": " << opt_bool(c.clearance_ok) << ",\n";
+  // where it forks, and parts of its CAD seen but not traced (a branch of another diameter): only when there are any
+  for (const auto& [key, list] : {std::pair{"forks", &c.forks}, std::pair{"untraced_parts", &c.untraced_parts}}) {
+    if (list->empty()) continue;
+    o << in << "\"" << key << "\": [";
+    for (std::size_t i = 0; i < list->size(); ++i) o << (i ? ", " : "") << vec((*list)[i], 2);
+    o << "],\n";
+  }
   o << in << "\"points\": " << (c.found ? c.trace.points.size() : 0) << ",\n";
   o << in << "\"segments\": [";
   if (c.found) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 
@@ -52,18 +53,103 @@ RunEnd run_end(const TubeTrace& run, bool back, double direction_mm, double keep
   return e;
 }
 
+double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+// Run ends joinable at all (see run_end), and for each pair (k, bk, l, bl) whether a third run's end lies at the
+// gap between them (RunJoinParams::fork_*).
+struct Ends {
+  std::vector<std::array<RunEnd, 2>> ends;
+  double fork_reach = 0.0;
+  bool third_at_gap(std::size_t k, int bk, std::size_t l, int bl) const {
+    const RunEnd &a = ends[k][bk], &b = ends[l][bl];
+    for (std::size_t m = 0; m < ends.size(); ++m) {
+      if (m == k || m == l) continue;
+      for (int bm = 0; bm < 2; ++bm)
+        if (ends[m][bm].ok && point_segment_distance(ends[m][bm].point, a.point, b.point) <= fork_reach) return true;
+    }
+    return false;
+  }
+};
+
+Ends run_ends(const std::vector<TubeTrace>& runs, double diameter_mm, const RunJoinParams& params) {
+  Ends e;
+  const double keep = params.keep_diameters * diameter_mm, direction = params.end_direction_diameters * diameter_mm;
+  e.ends.resize(runs.size());
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    for (int b = 0; b < 2; ++b) e.ends[k][b] = run_end(runs[k], b == 1, direction, keep);
+  e.fork_reach = std::max(params.fork_reach_diameters * diameter_mm, params.fork_reach_min_mm);
+  return e;
+}
+
 }  // namespace
+
+std::vector<Eigen::Vector3d> run_forks(const std::vector<TubeTrace>& runs, double diameter_mm,
+                                       const RunJoinParams& params) {
+  std::vector<Eigen::Vector3d> forks;
+  if (runs.size() < 2 || !(diameter_mm > 0)) return forks;
+  const Ends e = run_ends(runs, diameter_mm, params);
+  const double max_gap = std::max(params.max_gap_diameters * diameter_mm, params.min_gap_mm);
+  // A fork already found within the gap limit of another's place is not found again.
+  const auto add = [&](const Eigen::Vector3d& place) {
+    if (std::none_of(forks.begin(), forks.end(), [&](const Eigen::Vector3d& f) { return (f - place).norm() <= max_gap; }))
+      forks.push_back(place);
+  };
+  // Three ends of three runs together (a trunk split at the fork, and the branch): their mean.
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    for (std::size_t l = k + 1; l < runs.size(); ++l)
+      for (int bk = 0; bk < 2; ++bk)
+        for (int bl = 0; bl < 2; ++bl) {
+          const RunEnd &a = e.ends[k][bk], &b = e.ends[l][bl];
+          if (!a.ok || !b.ok || (b.point - a.point).norm() > max_gap) continue;
+          for (std::size_t m = 0; m < runs.size(); ++m)
+            for (int bm = 0; bm < 2; ++bm) {
+              const RunEnd& c = e.ends[m][bm];
+              if (m == k || m == l || !c.ok || point_segment_distance(c.point, a.point, b.point) > e.fork_reach) continue;
+              add((a.point + b.point + c.point) / 3.0);
+            }
+        }
+  // A run ending inside another's tube, away from that run's ends: a branch traced up to the trunk it leaves (the
+  // trunk traced through the fork). Its place is the nearest point on the other run's centreline.
+  for (std::size_t l = 0; l < runs.size(); ++l)
+    for (int bl = 0; bl < 2; ++bl) {
+      const RunEnd& a = e.ends[l][bl];
+      if (!a.ok) continue;
+      for (std::size_t k = 0; k < runs.size(); ++k) {
+        const std::vector<Eigen::Vector3d>& c = runs[k].centerline;
+        if (k == l || c.size() < 2) continue;
+        double best = std::numeric_limits<double>::infinity(), at_arc = 0.0, arc = 0.0;
+        Eigen::Vector3d nearest = c.front();
+        for (std::size_t i = 0; i + 1 < c.size(); ++i) {
+          const Eigen::Vector3d ab = c[i + 1] - c[i];
+          const double len = ab.norm();
+          const double t = len > 0 ? std::clamp((a.point - c[i]).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
+          const Eigen::Vector3d q = c[i] + t * ab;
+          if ((q - a.point).norm() < best) {
+            best = (q - a.point).norm();
+            nearest = q;
+            at_arc = arc + t * len;
+          }
+          arc += len;
+        }
+        if (best <= runs[k].radius_mm && at_arc >= diameter_mm && arc - at_arc >= diameter_mm) add(nearest);
+      }
+    }
+  return forks;
+}
 
 std::vector<RunJoin> join_runs_across_gaps(const std::vector<TubeTrace>& runs, const std::vector<Eigen::Vector3f>& cloud,
                                            double diameter_mm, const RunJoinParams& params) {
   std::vector<RunJoin> joins;
   if (!params.enabled || runs.size() < 2 || !(diameter_mm > 0)) return joins;
   const double max_gap = std::max(params.max_gap_diameters * diameter_mm, params.min_gap_mm);
-  const double keep = params.keep_diameters * diameter_mm, direction = params.end_direction_diameters * diameter_mm;
   const double min_cos_turn = std::cos(params.min_turn_deg * M_PI / 180.0);
-  std::vector<std::array<RunEnd, 2>> ends(runs.size());
-  for (std::size_t k = 0; k < runs.size(); ++k)
-    for (int b = 0; b < 2; ++b) ends[k][b] = run_end(runs[k], b == 1, direction, keep);
+  const Ends all = run_ends(runs, diameter_mm, params);
+  const std::vector<std::array<RunEnd, 2>>& ends = all.ends;
   for (std::size_t k = 0; k < runs.size(); ++k)
     for (std::size_t l = k + 1; l < runs.size(); ++l)
       for (int bk = 0; bk < 2; ++bk)
@@ -89,6 +175,7 @@ std::vector<RunJoin> join_runs_across_gaps(const std::vector<TubeTrace>& runs, c
                 ta > max_gap || tb > max_gap)
               continue;
           }
+          if (all.third_at_gap(k, bk, l, bl)) continue;  // a fork
           RunJoin j;
           j.first = k;
           j.second = l;

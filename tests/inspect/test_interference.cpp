@@ -721,3 +721,88 @@ TEST(ChainDistance, BridgesFollowTheRunsAcrossABend) {
   ASSERT_GT(bridged.size(), chain.size());
   EXPECT_NEAR(distance_to_chain(bridged, arc(90)).distance_mm, 0.0, 0.15);
 }
+
+namespace {
+
+// Samples on a tube's whole surface (axis a -> b), rings `step` apart: a CAD cable's registered samples.
+void add_tube_samples(std::vector<Eigen::Vector3d>& out, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r,
+                      double step) {
+  const Eigen::Vector3d ax = (b - a).normalized(), u = ax.unitOrthogonal(), v = ax.cross(u);
+  const int na = int(std::ceil((b - a).norm() / step)), nc = int(std::ceil(2 * M_PI * r / step));
+  for (int i = 0; i <= na; ++i)
+    for (int j = 0; j < nc; ++j) {
+      const double phi = 2 * M_PI * j / nc;
+      out.push_back(a + (b - a) * (double(i) / na) + r * (std::cos(phi) * u + std::sin(phi) * v));
+    }
+}
+
+// One mesh of both.
+Mesh merged(const Mesh& a, const Mesh& b) {
+  Mesh m = a;
+  const int base = int(a.vertices.size());
+  m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (const Eigen::Vector3i& t : b.triangles) m.triangles.push_back(t + Eigen::Vector3i::Constant(base));
+  return m;
+}
+
+}  // namespace
+
+// A harness drawn as one CAD element, a 5 mm branch leaving its 7.2 mm trunk: no start of the plan's radius takes the
+// branch, so only the trunk is traced, and the branch's points beside it looked like a foreign object 1 mm away (a
+// branch added to a simulated scene: a false alarm). Lying on the element's own CAD surface, nearer it than the
+// measured trunk, and reaching the CAD where no run was traced, they are its untraced part: left out and reported to
+// the caller. At 20 deg too, where most of the branch lies within the trace's cover (15 mm) of the trunk. An object
+// lying on the traced trunk is still found; without the branch in the CAD the branch is a foreign object again.
+TEST(Interference, AnUntracedBranchOfItsOwnCadIsNoForeignObject) {
+  const double r = 3.6, rb = 2.5;
+  for (const double angle_deg : {20.0, 35.0, 90.0}) {
+    SCOPED_TRACE(angle_deg);
+    const Eigen::Vector3d fork(75, 0, 0);
+    const Eigen::Vector3d dir(std::cos(angle_deg * M_PI / 180), std::sin(angle_deg * M_PI / 180), 0);
+    const Mesh trunk_mesh = make_cylinder({0, 0, 0}, {150, 0, 0}, r);
+    Scene harness, trunk;
+    add_mesh(harness, "cable_A", merged(trunk_mesh, make_cylinder(fork, fork + 60 * dir, rb)));
+    add_mesh(trunk, "cable_A", trunk_mesh);
+    const SurfaceIndex harness_cad(harness, {0}), trunk_cad(trunk, {0});
+    Cloud cloud;
+    const MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {150, 0, 0}, r, 40);
+    add_visible_cylinder(cloud, fork, fork + 60 * dir, rb);  // the branch: not in A.points
+    std::vector<Eigen::Vector3d> harness_samples, trunk_samples;
+    add_tube_samples(trunk_samples, {0, 0, 0}, {150, 0, 0}, r, 1.0);
+    harness_samples = trunk_samples;
+    add_tube_samples(harness_samples, fork, fork + 60 * dir, rb, 1.0);
+    const SurfaceIndex rigid;
+    const InterferenceParams p = params_seen_from({75, 0, 600});
+    std::vector<Eigen::Vector3d> untraced;
+    InterferenceContext context;
+    context.own_cad_spacing_mm = 1.0;
+    context.own_cad_traced_within_mm = 15.0;
+    context.untraced_parts = &untraced;
+    {
+      const KdTree tree(cloud.points);
+      const auto plain = find_interferences(cloud, tree, harness, rigid, {A}, 0, {}, p);
+      ASSERT_EQ(plain.size(), 1u);
+      EXPECT_FALSE(plain[0].with.has_value());
+      context.cable_cad = &harness_cad;
+      context.own_cad_samples = &harness_samples;
+      EXPECT_TRUE(find_interferences(cloud, tree, harness, rigid, {A}, 0, {}, p, context).empty());
+      ASSERT_EQ(untraced.size(), 1u);
+      EXPECT_LT((untraced[0] - fork).norm(), 15.0 / std::sin(angle_deg * M_PI / 180));
+      untraced.clear();
+      context.cable_cad = &trunk_cad;  // the CAD without the branch: it is a foreign object
+      context.own_cad_samples = &trunk_samples;
+      EXPECT_EQ(find_interferences(cloud, tree, trunk, rigid, {A}, 0, {}, p, context).size(), 1u);
+      EXPECT_TRUE(untraced.empty());
+    }
+    add_top_face(cloud, {26, -15, r + 2.0}, {34, 15, r + 2.0});  // a strip lying across the trunk, 2 mm above
+    const KdTree tree(cloud.points);
+    context.cable_cad = &harness_cad;
+    context.own_cad_samples = &harness_samples;
+    const auto found = find_interferences(cloud, tree, harness, rigid, {A}, 0, {}, p, context);
+    ASSERT_EQ(found.size(), 1u);
+    EXPECT_FALSE(found[0].with.has_value());
+    EXPECT_NEAR(found[0].center.x(), 30.0, 1.0);
+    EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.2);
+    EXPECT_EQ(untraced.size(), 1u);
+  }
+}

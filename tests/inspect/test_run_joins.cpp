@@ -140,3 +140,41 @@ TEST(RunJoins, NoJoinAcrossAStraightGapOrAnAttachedElement) {
                                                                   Eigen::Vector3d(150, 0, 0) + 100 * turn)};
   EXPECT_TRUE(join_runs_across_gaps(far, cloud, 5.0).empty());
 }
+
+// A harness forking (DESIGN "branching harnesses"), its branch of the trunk's diameter traced as a run of its own. When
+// the trunk's trace broke at the fork, three run ends meet there: the turn from trunk into branch is no bend hidden
+// in a gap (a 20 deg branch read as a 12.3 mm bend so), so none of them is joined, and the fork is reported. When the
+// trunk was traced through, the branch's run ends inside the trunk's tube: a fork too. Two runs meeting at a hidden
+// corner are joined as before, and no fork.
+TEST(RunJoins, AForkIsNoBendAndIsReported) {
+  const auto run = [](Eigen::Vector3d from, Eigen::Vector3d to) {
+    TubeTrace t;
+    t.found = true;
+    t.radius_mm = 3.6;
+    const int n = 100;
+    for (int i = 0; i <= n; ++i) t.centerline.push_back(from + (to - from) * (double(i) / n));
+    return t;
+  };
+  const std::vector<Eigen::Vector3f> cloud;
+  const double d = 7.2;
+  const Eigen::Vector3d turn = Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d fork(100, 0, 0);
+  // the trunk before the fork and the branch leaving it: a corner hidden in the gap, joined
+  std::vector<TubeTrace> runs = {run({0, 0, 0}, fork), run(fork + 4 * turn, fork + 80 * turn)};
+  EXPECT_EQ(join_runs_across_gaps(runs, cloud, d).size(), 1u);
+  EXPECT_TRUE(run_forks(runs, d).empty());
+  // ... and the trunk going on beyond the fork: three ends meet
+  runs.push_back(run({103, 0, 0}, {200, 0, 0}));
+  EXPECT_TRUE(join_runs_across_gaps(runs, cloud, d).empty());
+  std::vector<Eigen::Vector3d> forks = run_forks(runs, d);
+  ASSERT_EQ(forks.size(), 1u);
+  EXPECT_LT((forks[0] - fork).norm(), 3.0);
+  // the trunk traced through the fork, the branch's run ending inside its tube
+  const std::vector<TubeTrace> through = {run({0, 0, 0}, {200, 0, 0}), run(fork + 1.5 * turn, fork + 80 * turn)};
+  forks = run_forks(through, d);
+  ASSERT_EQ(forks.size(), 1u);
+  EXPECT_LT((forks[0] - fork).norm(), 2.0);
+  // a run ending where another ends (a clamp's two sides, each side's end not stopped there): no fork
+  const std::vector<TubeTrace> in_line = {run({0, 0, 0}, {100, 0, 0}), run({104, 0, 0}, {200, 0, 0})};
+  EXPECT_TRUE(run_forks(in_line, d).empty());
+}

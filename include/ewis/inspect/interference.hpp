@@ -150,6 +150,20 @@ struct InterferenceParams {
   // ... or, when the free fit's radius is off (a sliver of the surface: the part beyond the band), a tube of the
   // cable's radius fits it with an RMS within this factor of the free fit's
   double own_stretch_fixed_rms_factor = 1.25;
+  // A foreign cluster whose whole object (grown as for min_object_area_mm2, but up to own_part_max_points points) lies
+  // mostly (own_part_min_fraction) on the cable's own registered CAD surface, nearer it by own_part_margin_mm than
+  // to the measured cable's surface, and reaches (at least the minimum cluster size of its points) the cable's CAD
+  // where none of its runs was traced, is a part of the cable the trace did not follow, not a foreign object: a branch
+  // of a harness (one element of the CAD) of another diameter than the plan's, which no start of the plan's radius
+  // takes (a 5 mm branch off a 7.2 mm trunk read as a foreign object 1.0 mm from it). "On" the CAD: within
+  // label_tolerance_mm of it (InterferenceContext::cable_cad); "reaches": within label_tolerance_mm plus the samples'
+  // spacing of an untraced sample (InterferenceContext::own_cad_samples). An object lying on or near the traced cable
+  // lies no nearer its CAD than its measured surface; to be taken for the cable's own it would have to lie on the
+  // cable's CAD where the cable is not, and reach its CAD farther than the trace's cover from the measured cable.
+  // Reported to the caller (InterferenceContext::untraced_parts), not inspected.
+  double own_part_min_fraction = 0.5;
+  double own_part_margin_mm = 0.5;
+  std::size_t own_part_max_points = 4000;
 };
 
 struct Interference {
@@ -179,6 +193,14 @@ struct InterferenceContext {
   const SurfaceIndex* cable_cad = nullptr;
   // true when p is hidden from the sensor by a CAD surface (any element but this cable)
   std::function<bool(const Eigen::Vector3d&)> hidden_by_rigid;
+  // The cable's own registered CAD samples (its trace's seeds, own_cad_spacing_mm apart) and the distance from its
+  // measured chain within which a sample counts as traced (InterferenceParams::own_part_*). Null (or no cable_cad):
+  // no such test.
+  const std::vector<Eigen::Vector3d>* own_cad_samples = nullptr;
+  double own_cad_spacing_mm = 0.0;
+  double own_cad_traced_within_mm = 0.0;
+  // Out (optional): the centre of each cluster left out as the cable's own untraced part.
+  std::vector<Eigen::Vector3d>* untraced_parts = nullptr;
 };
 std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& tree, const Scene& scene,
                                              const SurfaceIndex& rigid, const std::vector<MeasuredCable>& cables,

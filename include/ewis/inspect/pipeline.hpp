@@ -96,6 +96,12 @@ struct CableInspection {
   std::optional<bool> bend_ok;          // nullopt when not found
   std::optional<bool> clearance_ok;
   std::vector<Interference> interferences;
+  // Parts of its own CAD the scan shows but no run traced, each where it comes nearest the traced cable (a branch of
+  // another diameter than the plan's: InterferenceParams::own_part_min_fraction); not inspected.
+  std::vector<Eigen::Vector3d> untraced_parts;
+  // Where three of its runs' ends meet: it forks there (a branch of its diameter traced as a run of its own;
+  // run_joins.hpp run_forks). No bend is measured across a fork.
+  std::vector<Eigen::Vector3d> forks;
   // The cable as traced: one run per stretch between attached elements (a clamp mid-cable ends a run, the
   // next run starts from the CAD samples not yet covered). `trace` merges them: segments and gaps run after
   // run, points the sorted union, length the sum, radius the point-weighted mean; its centreline is the

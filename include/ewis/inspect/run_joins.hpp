@@ -38,6 +38,13 @@ struct RunJoinParams {
   double front_min_mm = 4.0;
   double front_max_mm = 120.0;
   double front_ray_mm = 1.0;
+  // A fork (DESIGN "branching harnesses"): where a third run end of the cable lies within
+  // max(fork_reach_diameters x diameter, fork_reach_min_mm) of the gap between two ends (the straight line between
+  // them), the cable forks there, and no two of the three are joined: a trunk traced as two runs meeting a branch's
+  // run at the fork read the turn from trunk into branch as a bend (a 7.2 mm harness with a branch of its diameter 20
+  // deg off it: 12.3 mm). A bend hidden under an occluder leaves two ends there.
+  double fork_reach_diameters = 1.5;
+  double fork_reach_min_mm = 5.0;
 };
 
 // Two runs of a cable joined across the gap between their ends: `centerline` is run `first`'s part beside the gap
@@ -60,6 +67,14 @@ struct RunJoin {
 // a leg). `cloud`: the points the runs index. Deterministic (pairs in run order).
 std::vector<RunJoin> join_runs_across_gaps(const std::vector<TubeTrace>& runs, const std::vector<Eigen::Vector3f>& cloud,
                                            double diameter_mm, const RunJoinParams& params = {});
+
+// Where the cable forks: the centre of each group of three run ends lying together (one within the fork reach,
+// RunJoinParams::fork_*, of the line between the others; ends at attached elements and loops do not count, as for the
+// joins), and the place where a run ends inside another run's tube at least a diameter from that run's ends (a branch
+// traced up to the trunk it leaves). Forks within the joins' gap limit of one found before are not listed again.
+// Deterministic.
+std::vector<Eigen::Vector3d> run_forks(const std::vector<TubeTrace>& runs, double diameter_mm,
+                                       const RunJoinParams& params = {});
 
 // The scan points within reach of the join's gap that something hides in part (see RunJoinParams::front_*): indices
 // into `cloud`, increasing. `sensor`: the sensor's position in the cloud's frame. Only points `usable` allows (when
