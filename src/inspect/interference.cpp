@@ -42,6 +42,7 @@ bool contains_sorted(const std::vector<std::uint32_t>& v, std::uint32_t x) {
 struct Footprint {
   std::vector<Eigen::Vector2d> pixels;
   std::size_t stacked = 0;  // pixels holding points more than stack_min_spread_mm apart along their ray
+  std::vector<std::uint8_t> on_stack;  // per point (in the cluster's order): its pixel is such a stack
 };
 
 Footprint image_footprint(const Cloud& cloud, const std::vector<std::uint32_t>& pts, const InterferenceParams& params) {
@@ -54,7 +55,10 @@ Footprint image_footprint(const Cloud& cloud, const std::vector<std::uint32_t>& 
   struct Hit {
     long a, b;
     double range;
-    bool operator<(const Hit& o) const { return a != o.a ? a < o.a : b != o.b ? b < o.b : range < o.range; }
+    std::size_t k;  // the point's place in the cluster
+    bool operator<(const Hit& o) const {
+      return a != o.a ? a < o.a : b != o.b ? b < o.b : range != o.range ? range < o.range : k < o.k;
+    }
   };
   std::vector<Hit> hits(pts.size());
   for (std::size_t k = 0; k < pts.size(); ++k) {
@@ -62,18 +66,47 @@ Footprint image_footprint(const Cloud& cloud, const std::vector<std::uint32_t>& 
     const Eigen::Vector3d ray = (x - params.sensor_position).normalized();
     const double t = -d.dot(view) / std::max(ray.dot(view), 1e-6);
     hits[k] = {std::lround(std::floor((d + t * ray).dot(u) / pixel)), std::lround(std::floor((d + t * ray).dot(v) / pixel)),
-               (x - params.sensor_position).norm()};
+               (x - params.sensor_position).norm(), k};
   }
   std::sort(hits.begin(), hits.end());
   Footprint f;
+  f.on_stack.assign(pts.size(), 0);
   for (std::size_t i = 0; i < hits.size();) {
     std::size_t j = i;
     while (j < hits.size() && hits[j].a == hits[i].a && hits[j].b == hits[i].b) ++j;
     f.pixels.emplace_back((double(hits[i].a) + 0.5) * pixel, (double(hits[i].b) + 0.5) * pixel);
-    if (hits[j - 1].range - hits[i].range > params.stack_min_spread_mm) ++f.stacked;
+    if (hits[j - 1].range - hits[i].range > params.stack_min_spread_mm) {
+      ++f.stacked;
+      for (std::size_t h = i; h < j; ++h) f.on_stack[hits[h].k] = 1;
+    }
     i = j;
   }
   return f;
+}
+
+// The local normals (PCA) of a cluster's points, turned towards the sensor (see is_veil).
+std::vector<Eigen::Vector3f> local_normals(const KdTree& tree, const std::vector<std::uint32_t>& pts,
+                                           const InterferenceParams& params) {
+  NormalParams np;
+  np.radius_mm = std::max(params.veil_radius_mm, 4.0 * params.resolution_mm);
+  np.max_neighbors = 64;
+  np.viewpoint = params.sensor_position.cast<float>();
+  return estimate_normals(tree, pts, np);
+}
+
+// The points of a cluster whose surface faces the sensor (|cos| of normal and ray at least veil_facing_cos), not on a
+// stacked pixel (image_footprint: no surface gives several depths on one ray), sorted.
+std::vector<std::uint32_t> facing_points(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint32_t>& pts,
+                                         const Footprint& footprint, const InterferenceParams& params) {
+  const std::vector<Eigen::Vector3f> normals = local_normals(tree, pts, params);
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (normals[i].squaredNorm() == 0 || footprint.on_stack[i]) continue;
+    const Eigen::Vector3d ray = (cloud.points[pts[i]].cast<double>() - params.sensor_position).normalized();
+    if (std::abs(ray.dot(normals[i].cast<double>())) >= params.veil_facing_cos) out.push_back(pts[i]);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 // See InterferenceParams::veil_cos_max: most points' local surfaces contain their viewing rays. `footprint`: the
@@ -84,11 +117,7 @@ bool is_veil(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint
   // no surface gives (see InterferenceParams::stack_min_spread_mm).
   if (double(footprint.stacked) >= params.veil_fraction * double(footprint.pixels.size())) return true;
   const std::vector<Eigen::Vector2d>& pixels = footprint.pixels;
-  NormalParams np;
-  np.radius_mm = std::max(params.veil_radius_mm, 4.0 * params.resolution_mm);
-  np.max_neighbors = 64;
-  np.viewpoint = params.sensor_position.cast<float>();
-  const std::vector<Eigen::Vector3f> normals = estimate_normals(tree, pts, np);
+  const std::vector<Eigen::Vector3f> normals = local_normals(tree, pts, params);
   std::size_t grazing = 0, defined = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     if (normals[i].squaredNorm() == 0) continue;
@@ -504,12 +533,25 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
   // 3. Foreign points: clustered; small clusters are noise, veils are mixed pixels.
   for (const auto& [label, subset] : groups) {
     if (subset.size() < min_size) continue;
-    const ClusterResult cr = euclidean_clusters(tree, subset, tol, min_size);
-    for (const std::vector<std::uint32_t>& pts : cr.clusters) {
+    ClusterResult cr = euclidean_clusters(tree, subset, tol, min_size);
+    const std::size_t first_clusters = cr.clusters.size();
+    for (std::size_t ci = 0; ci < cr.clusters.size(); ++ci) {
+      const std::vector<std::uint32_t> pts = cr.clusters[ci];  // a copy: the list may grow below
       if (params.has_sensor) {
         // Its size counted in pixels: many points on a few rays are noise too (see image_footprint).
         const Footprint footprint = image_footprint(cloud, pts, params);
-        if (footprint.pixels.size() < min_size || is_veil(tree, cloud, pts, footprint, params)) continue;
+        if (footprint.pixels.size() < min_size) continue;
+        if (is_veil(tree, cloud, pts, footprint, params)) {
+          // What in it faces the sensor, clustered again, is judged on its own (InterferenceParams::veil_facing_cos).
+          if (ci < first_clusters && params.veil_facing_cos > 0) {
+            const std::vector<std::uint32_t> facing = facing_points(tree, cloud, pts, footprint, params);
+            if (facing.size() >= min_size) {
+              ClusterResult parts = euclidean_clusters(tree, facing, tol, min_size);
+              for (std::vector<std::uint32_t>& part : parts.clusters) cr.clusters.push_back(std::move(part));
+            }
+          }
+          continue;
+        }
       }
       if (chain.size() > me.chain.size() && is_own_untraced_stretch(cloud, pts, chain, me.chain.size(), r, params))
         continue;

@@ -313,6 +313,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       const bool ok = t.found && !t.segments.empty() && t.length_mm >= params.min_found_length_diameters * pe.diameter_mm;
       // (see InspectParams::min_run_support)
       const bool supported = !ok || run_support(t, res.sensor_position, res.resolution_mm) >= params.min_run_support;
+      // (see InspectParams::max_seed_radius_ratio)
+      const double ratio = std::max(1.0, params.max_seed_radius_ratio);
+      const bool own_radius = !ok || (t.radius_mm * ratio >= radius && t.radius_mm <= ratio * radius);
       std::vector<Cylinder> chain;
       for (const SubCable& s : t.segments) chain.push_back(s.cylinder);
       std::size_t newly = 0;
@@ -325,7 +328,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       }
       if (!ok || newly == 0) break;  // nothing more to find (bounded either way)
       for (std::uint32_t i : t.points) run_usable[i] = 0;
-      if (supported) runs.push_back(std::move(t));  // else its CAD samples are covered, and the next run starts elsewhere
+      // else its CAD samples are covered, and the next run starts elsewhere
+      if (supported && own_radius) runs.push_back(std::move(t));
     }
     return runs;
   };
