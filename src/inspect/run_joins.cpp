@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "ewis/core/cylinder.hpp"
 #include "ewis/search/kdtree.hpp"
 
 namespace ewis {
@@ -54,10 +55,7 @@ RunEnd run_end(const TubeTrace& run, bool back, double direction_mm, double keep
 }
 
 double point_segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
+  return distance_to_segment(Cylinder{a, b, 0.0}, p);
 }
 
 // Run ends joinable at all (see run_end), and for each pair (k, bk, l, bl) whether a third run's end lies at the
