@@ -44,16 +44,17 @@ struct InspectParams {
   double min_found_length_diameters = 1.0;  // a traced chain shorter than this is "not found"
   int max_runs = 6;                     // traces per cable (stretches between clamps)
   // A trace's seed must read the plan's radius within this factor, and so must a run as traced (its median radius),
-  // else it is dropped (its CAD samples count as covered, as for min_run_support): a later run of a 5.6 mm cable,
+  // else it is dropped (as for min_run_support): a later run of a 5.6 mm cable,
   // searching 15 mm around its CAD for a displaced stretch, took 74 mm of a 4.0 mm neighbour 9.5 mm off (reading
   // 1.94 mm, 0.69 x; the trace alone allows 0.65-1.35 x), and the two then read 0.9 mm apart for 4.75 (fresh campaign
   // `--seed 9191 --campaign 40 --cables 3 --pose-error-deg 5 --pose-error-mm 30 --outliers 0.5`, scene_020).
   double max_seed_radius_ratio = 1.3;
   // A run holds at least this share of the scan points a cable of its radius would show over its length (its width
   // seen from the sensor, 2 r x the length across the rays, over the resolution squared): fewer, it was traced on
-  // stray points (a neighbour's flank or mixed pixels left after untangling), not on a cable, and is dropped (its
-  // CAD samples count as covered). The 270 runs of the campaign's first 70 scenes hold 0.75-1.52 of that (median
-  // 1.15); five runs walked along a touching neighbour's leftovers after untangling 0.06-0.15.
+  // stray points (a neighbour's flank or mixed pixels left after untangling), not on a cable, and is dropped. A
+  // dropped run tells nothing of where its cable is: its points are left out of the next traces, and its CAD samples
+  // stay to seed them (pipeline.cpp, trace_runs). The 270 runs of the campaign's first 70 scenes hold 0.75-1.52 of
+  // that (median 1.15); five runs walked along a touching neighbour's leftovers after untangling 0.06-0.15.
   double min_run_support = 0.2;
   // A CAD cable sample is covered by a run when within max(covered_radii x radius, covered_min_mm) of its
   // chain (the as-built cable strays from its CAD); uncovered samples (outside attached elements) seed the
