@@ -32,6 +32,7 @@ struct Run {
   std::size_t excluded = 0;  // of the subsample
   FreeSpaceCount free_space;  // the CAD's faces toward the sensor that lie in front of what it measured
   double box_fitness = 0.0;  // over the points the pose maps into the CAD's box; 0: not measured (see refine)
+  bool beaten = false;       // stopped after its coarse pass: it could not win (see refine's beaten_below)
 };
 
 // How well the scan supports a pose: its fitness, discounted by the fraction of the CAD's seen faces it puts in
@@ -107,9 +108,10 @@ double final_distance_mm(const IcpParams& icp, const CadTarget& target) {
 // under it is not refined further: the fine pass measures the fitness at a third of the coarse pass's distance, and
 // the support discounts it again, so it cannot win (a wrong global start of the demo ran 70 fine iterations, 0.18 s,
 // to 0.58 against the right start's 0.98).
+// `grow`: whether the zones around the cables grow by the start's uncertainty in the coarse pass (see below).
 Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
            double expected_error_mm, const ScanToCadParams& params, const ProgressFn& progress,
-           const RangeBins* bins, double beaten_below = 0.0) {
+           const RangeBins* bins, double beaten_below = 0.0, bool grow = true) {
   IcpParams icp = params.icp;
   const double final_d = final_distance_mm(icp, target);
   icp.final_max_distance_mm = final_d;
@@ -120,7 +122,7 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   // While the pose is uncertain, the zone around each cable grows by that uncertainty (bounded, so that a
   // scene with many cables keeps enough rigid points).
   std::vector<std::uint32_t> keep =
-      points_away_from_cables(scan, start, target, std::min(expected_error_mm, 20.0));
+      points_away_from_cables(scan, start, target, grow ? std::min(expected_error_mm, 20.0) : 0.0);
   if (keep.size() < std::max<std::size_t>(50, scan.size() / 10)) keep = points_away_from_cables(scan, start, target, 0.0);
   Run run;
   if (keep.size() < 6) return run;
@@ -140,6 +142,7 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   const RegistrationResult coarse =
       align_point_to_plane(scan, *view.cloud, *view.tree, start, coarse_icp, keep, progress, &memory);
   if (coarse.fitness < beaten_below) {
+    run.beaten = true;
     run.reg = coarse;
     run.excluded = scan.size() - keep.size();
     return run;
@@ -278,8 +281,17 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
       const std::vector<Eigen::Vector3f> cropped =
           params.crop_to_cad ? without_background(scan, target, start, params.icp.expected_error_mm)
                              : std::vector<Eigen::Vector3f>{};
-      const double best = have ? support(res.registration, res.free_space) : 0.0;
-      consider(refine(cropped.empty() ? scan : cropped, target, start, expected_mm, params, progress, bins, best), true);
+      const std::vector<Eigen::Vector3f>& points = cropped.empty() ? scan : cropped;
+      const Run grown = refine(points, target, start, expected_mm, params, progress, bins,
+                               have ? support(res.registration, res.free_space) : 0.0);
+      consider(grown, true);
+      // (ScanToCadParams::global_refine_ungrown)
+      const bool trusted = grown.reg.fitness >= params.trusted_fitness &&
+                           grown.free_space.fraction() <= params.trusted_in_front_fraction;
+      if (params.global_refine_ungrown && !trusted && !grown.beaten)
+        consider(refine(points, target, start, expected_mm, params, progress, bins,
+                        have ? support(res.registration, res.free_space) : 0.0, false),
+                 true);
     }
   }
   res.valid = have && res.registration.fitness >= params.min_fitness &&
