@@ -429,6 +429,28 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   // Two cables' runs on the same points: the place goes to the cable whose CAD is nearer (run_conflicts.hpp).
   drop_runs_on_other_cables(res.cables, scene, cloud.points);
 
+  // How much of each cable's CAD its kept runs cover (InspectParams::min_traced_fraction).
+  parallel_for_each_index(cable_plans.size(), [&](std::size_t c) {
+    CableInspection& ci = res.cables[c];
+    std::vector<Cylinder> chain;
+    for (const TubeTrace& t : ci.runs)
+      for (const SubCable& s : t.segments) chain.push_back(s.cylinder);
+    std::vector<int> attached_rigid;
+    for (const std::string& a : cable_plans[c]->attached) {
+      const int idx = scene.find(a);
+      if (idx >= 0 && !is_cable[idx]) attached_rigid.push_back(idx);
+    }
+    std::size_t total = 0, traced = 0;
+    for (const Eigen::Vector3d& p : seeds_of[c].points) {
+      if (std::any_of(attached_rigid.begin(), attached_rigid.end(),
+                      [&](int e) { return inside_box(p, scene.elements[e], 0.0); }))
+        continue;
+      ++total;
+      if (!chain.empty() && distance_to_chain(chain, p).distance_mm <= cover_mm(c)) ++traced;
+    }
+    ci.cad_traced_fraction = total > 0 ? double(traced) / double(total) : (chain.empty() ? 0.0 : 1.0);
+  }, 1);
+
   for (std::size_t c = 0; c < cable_plans.size(); ++c) {
     CableInspection& ci = res.cables[c];
     ci.found = !ci.runs.empty();
@@ -629,6 +651,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     return std::string(text);
   };
   for (const CableInspection& ci : res.cables) {
+    if (ci.found && ci.cad_traced_fraction < params.min_traced_fraction)
+      res.warnings.push_back(ci.name + ": traced along " + std::to_string(std::lround(100.0 * ci.cad_traced_fraction)) +
+                             " % of its CAD only (hidden, or displaced from its CAD?): the rest was not inspected");
     for (const Eigen::Vector3d& p : ci.forks)
       res.warnings.push_back(ci.name + ": forks at " + where(p) +
                              " (a branch traced as a run of its own: no bend is measured across the fork)");

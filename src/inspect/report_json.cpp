@@ -102,6 +102,8 @@ void write_cable(std::ostringstream& o, const CableInspection& c) {
     for (std::size_t i = 0; i < list->size(); ++i) o << (i ? ", " : "") << vec((*list)[i], 2);
     o << "],\n";
   }
+  // the share of its CAD its runs cover (InspectParams::min_traced_fraction)
+  o << in << "\"cad_traced_fraction\": " << (c.found ? num(c.cad_traced_fraction, 3) : "null") << ",\n";
   o << in << "\"points\": " << (c.found ? c.trace.points.size() : 0) << ",\n";
   o << in << "\"segments\": [";
   if (c.found) {

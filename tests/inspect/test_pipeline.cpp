@@ -2,6 +2,7 @@
 #include <tbb/global_control.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -145,6 +146,42 @@ TEST(Pipeline, SyntheticSceneMeasures) {
   EXPECT_GE(e["interferences"][0]["points"].get<int>(), 1);
   EXPECT_FALSE(e["segments"].empty());
   EXPECT_EQ(j["elements"][1]["kind"], "rigid");
+}
+
+// A cable whose last 150 mm (of 315) the scan does not show is found, traced along about half of its CAD, and warned
+// about (InspectParams::min_traced_fraction); seen whole, it is traced along all of it, without the warning.
+TEST(Pipeline, ACableTracedAlongLittleOfItsCadIsWarnedAbout) {
+  const Synthetic s = make_synthetic();
+  const auto warned = [](const InspectionResult& r) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+                       [](const std::string& w) { return w.rfind("cable_A: traced along", 0) == 0; });
+  };
+  const InspectionResult whole = inspect(s.scene, s.plan, s.scan, s.camera_to_cad, fast_params());
+  ASSERT_TRUE(whole.cables[0].found);
+  EXPECT_GT(whole.cables[0].cad_traced_fraction, 0.9);
+  EXPECT_FALSE(warned(whole));
+  // make_synthetic's centreline again; the scan without the cable's points near its last 150 mm
+  test::Turtle t;
+  t.pos = {-120, -40, 30.0};
+  t.points = {t.pos};
+  t.step = 1.0;
+  t.straight(120);
+  t.arc(60.0, 90.0, Eigen::Vector3d::UnitY());
+  t.straight(100);
+  const std::vector<Eigen::Vector3d> hidden(t.points.end() - 150, t.points.end());
+  Cloud part;
+  for (const Eigen::Vector3f& q : s.scan.points) {
+    const Eigen::Vector3d p = s.camera_to_cad * q.cast<double>();
+    if (std::none_of(hidden.begin(), hidden.end(), [&](const Eigen::Vector3d& c) { return (p - c).norm() < 5.0; }))
+      part.points.push_back(q);
+  }
+  const InspectionResult r = inspect(s.scene, s.plan, part, s.camera_to_cad, fast_params());
+  ASSERT_TRUE(r.cables[0].found);
+  EXPECT_LT(r.cables[0].cad_traced_fraction, 0.7);
+  EXPECT_GT(r.cables[0].cad_traced_fraction, 0.4);
+  EXPECT_TRUE(warned(r));
+  const nlohmann::json j = nlohmann::json::parse(report_to_json(r, s.plan));
+  EXPECT_NEAR(j["elements"][0]["cad_traced_fraction"].get<double>(), r.cables[0].cad_traced_fraction, 1e-3);
 }
 
 // A short tight bend: 20 deg at R 20 mm on a d 8 cable (an arc of 7 mm, under one diameter). Circle windows
