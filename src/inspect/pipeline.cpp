@@ -220,6 +220,19 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   struct CadSeeds {
     std::vector<Eigen::Vector3d> points;
     std::vector<std::uint8_t> seen;
+    std::vector<std::uint8_t> in_attached;  // inside the box of a rigid element the cable is attached to
+  };
+  // A cable's attached elements (CONTRACT "attached"), rigid and cables apart.
+  struct Attached {
+    std::vector<int> rigid, cables;
+  };
+  const auto attached_of = [&](std::size_t c) {
+    Attached out;
+    for (const std::string& a : cable_plans[c]->attached) {
+      const int idx = scene.find(a);
+      if (idx >= 0) (is_cable[idx] ? out.cables : out.rigid).push_back(idx);
+    }
+    return out;
   };
   const auto cad_spacing_mm = [&](std::size_t c) {
     return params.cable_sample_spacing_mm > 0 ? params.cable_sample_spacing_mm
@@ -252,6 +265,11 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     out.seen.resize(out.points.size());
     for (std::size_t i = 0; i < out.points.size(); ++i)
       out.seen[i] = hits[i].hit() && hits[i].distance_mm >= rays[i].tmax_mm - 1.0f - kSeenToleranceMm;
+    const std::vector<int> rigid = attached_of(c).rigid;
+    out.in_attached.resize(out.points.size());
+    for (std::size_t i = 0; i < out.points.size(); ++i)
+      out.in_attached[i] = std::any_of(rigid.begin(), rigid.end(),
+                                       [&](int e) { return inside_box(out.points[i], scene.elements[e], 0.0); });
     return out;
   };
   std::vector<CadSeeds> seeds_of(cable_plans.size());
@@ -263,12 +281,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     const std::vector<Eigen::Vector3d>& cad_points = seeds_of[c].points;
     const std::vector<std::uint8_t>& seen = seeds_of[c].seen;
     // Attached elements end the run (CONTRACT "attached").
-    std::vector<int> attached_rigid, attached_cable;
-    for (const std::string& a : pe.attached) {
-      const int idx = scene.find(a);
-      if (idx < 0) continue;
-      (is_cable[idx] ? attached_cable : attached_rigid).push_back(idx);
-    }
+    const Attached attached = attached_of(c);
+    const std::vector<int>& attached_rigid = attached.rigid;
+    const std::vector<int>& attached_cable = attached.cables;
     const SurfaceIndex attached_rigid_index(scene, attached_rigid);
     const SurfaceIndex attached_cable_index(scene, attached_cable);
     TubeParams tp;
@@ -295,10 +310,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     // Runs: trace, mark the run's points unusable and its CAD samples covered, trace again from the rest.
     std::vector<std::uint8_t> run_usable = base;
     tp.usable = &run_usable;
-    std::vector<std::uint8_t> covered(cad_points.size(), 0);
-    for (std::size_t i = 0; i < cad_points.size(); ++i)
-      for (int e : attached_rigid)
-        if (inside_box(cad_points[i], scene.elements[e], 0.0)) covered[i] = 1;
+    std::vector<std::uint8_t> covered = seeds_of[c].in_attached;
     const std::size_t min_left = std::max<std::size_t>(20, cad_points.size() * 3 / 100);
     for (int run = 0; run < params.max_runs; ++run) {
       std::vector<Eigen::Vector3d> seeds, seen_seeds;
@@ -429,28 +441,6 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   // Two cables' runs on the same points: the place goes to the cable whose CAD is nearer (run_conflicts.hpp).
   drop_runs_on_other_cables(res.cables, scene, cloud.points);
 
-  // How much of each cable's CAD its kept runs cover (InspectParams::min_traced_fraction).
-  parallel_for_each_index(cable_plans.size(), [&](std::size_t c) {
-    CableInspection& ci = res.cables[c];
-    std::vector<Cylinder> chain;
-    for (const TubeTrace& t : ci.runs)
-      for (const SubCable& s : t.segments) chain.push_back(s.cylinder);
-    std::vector<int> attached_rigid;
-    for (const std::string& a : cable_plans[c]->attached) {
-      const int idx = scene.find(a);
-      if (idx >= 0 && !is_cable[idx]) attached_rigid.push_back(idx);
-    }
-    std::size_t total = 0, traced = 0;
-    for (const Eigen::Vector3d& p : seeds_of[c].points) {
-      if (std::any_of(attached_rigid.begin(), attached_rigid.end(),
-                      [&](int e) { return inside_box(p, scene.elements[e], 0.0); }))
-        continue;
-      ++total;
-      if (!chain.empty() && distance_to_chain(chain, p).distance_mm <= cover_mm(c)) ++traced;
-    }
-    ci.cad_traced_fraction = total > 0 ? double(traced) / double(total) : (chain.empty() ? 0.0 : 1.0);
-  }, 1);
-
   for (std::size_t c = 0; c < cable_plans.size(); ++c) {
     CableInspection& ci = res.cables[c];
     ci.found = !ci.runs.empty();
@@ -485,6 +475,18 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       m.points = ci.trace.points;
     }
   }
+  // How much of each found cable's CAD its runs cover (InspectParams::min_traced_fraction).
+  parallel_for_each_index(cable_plans.size(), [&](std::size_t c) {
+    if (!measured[c].found) return;
+    const CadSeeds& seeds = seeds_of[c];
+    std::size_t total = 0, traced = 0;
+    for (std::size_t i = 0; i < seeds.points.size(); ++i) {
+      if (seeds.in_attached[i]) continue;
+      ++total;
+      if (distance_to_chain(measured[c].chain, seeds.points[i]).distance_mm <= cover_mm(c)) ++traced;
+    }
+    res.cables[c].cad_traced_fraction = total > 0 ? double(traced) / double(total) : 1.0;
+  }, 1);
   report("trace", 1.0);
   clock.lap("trace");
 

@@ -24,6 +24,7 @@ struct Synthetic {
   InspectionPlan plan;
   Cloud scan;
   Pose camera_to_cad;
+  std::vector<Eigen::Vector3d> centreline;  // the cable's, 1 mm steps
 };
 
 Synthetic make_synthetic(double arc_radius_mm = 60.0, double arc_deg = 90.0) {
@@ -36,7 +37,8 @@ Synthetic make_synthetic(double arc_radius_mm = 60.0, double arc_deg = 90.0) {
   t.straight(120);
   t.arc(arc_radius_mm, arc_deg, Eigen::Vector3d::UnitY());
   t.straight(100);
-  const auto& cl = t.points;
+  s.centreline = t.points;
+  const auto& cl = s.centreline;
   const Mesh tube = make_tube(cl, r, 32);
   add_element(s.scene, "cable_A", tube.vertices, tube.triangles);
   const Mesh plate = make_box({-200, -150, 0}, {200, 250, 10});
@@ -160,15 +162,8 @@ TEST(Pipeline, ACableTracedAlongLittleOfItsCadIsWarnedAbout) {
   ASSERT_TRUE(whole.cables[0].found);
   EXPECT_GT(whole.cables[0].cad_traced_fraction, 0.9);
   EXPECT_FALSE(warned(whole));
-  // make_synthetic's centreline again; the scan without the cable's points near its last 150 mm
-  test::Turtle t;
-  t.pos = {-120, -40, 30.0};
-  t.points = {t.pos};
-  t.step = 1.0;
-  t.straight(120);
-  t.arc(60.0, 90.0, Eigen::Vector3d::UnitY());
-  t.straight(100);
-  const std::vector<Eigen::Vector3d> hidden(t.points.end() - 150, t.points.end());
+  // the scan without the cable's points near its last 150 mm
+  const std::vector<Eigen::Vector3d> hidden(s.centreline.end() - 150, s.centreline.end());
   Cloud part;
   for (const Eigen::Vector3f& q : s.scan.points) {
     const Eigen::Vector3d p = s.camera_to_cad * q.cast<double>();

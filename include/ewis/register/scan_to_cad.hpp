@@ -34,9 +34,9 @@ struct ScanToCadParams {
   double box_trusted_in_front_fraction = 0.03;
   int global_candidates = 3;          // best global candidates refined at full resolution; highest fitness wins
   // A global candidate whose refinement is not trusted (fitness under trusted_fitness or more CAD in front than
-  // trusted_in_front_fraction; not one stopped after its coarse pass as beaten) is refined again with the zones around the cables not grown by its uncertainty (the
-  // higher support wins): grown by 2 voxels (20 mm), they took in the clamps and connectors that held the pose along
-  // a plate (fresh campaign `--seed 2468 --campaign 40 --cables 3 --mismatch-patches 150 --outliers 0.45 --noise-mm
+  // trusted_in_front_fraction; not one stopped after its coarse pass as beaten) is refined again with the zones
+  // around the cables not grown by its uncertainty (the higher support wins): grown by 2 voxels (20 mm), they took in
+  // the clamps and connectors that held the pose along a plate (fresh campaign `--seed 2468 --campaign 40 --cables 3 --mismatch-patches 150 --outliers 0.45 --noise-mm
   // 0.25`, scene_010 without its pose: a start 3.3 mm from the truth slid 14.3 mm along the plate, fitness 0.88 and
   // 4.3 % in front; ungrown, 0.01 mm).
   bool global_refine_ungrown = true;
