@@ -148,6 +148,16 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   res.registration_converged = reg.registration.converged;
   res.registration_global = reg.used_global;
   if (reg.free_space.seen > 0) res.registration_in_front_fraction = reg.free_space.fraction();
+  if (reg.registration.fitness < params.doubtful_fitness ||
+      (reg.registration.fitness < params.registration.trusted_fitness &&
+       reg.free_space.fraction() > params.registration.trusted_in_front_fraction)) {
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the registration is doubtful (fitness %.2f, %ld %% of the CAD's faces toward the sensor lie in front "
+                  "of what it measured): the pose may be wrong, or parts of the CAD are missing from the assembly",
+                  reg.registration.fitness, std::lround(100.0 * reg.free_space.fraction()));
+    res.warnings.emplace_back(text);
+  }
   res.sensor_position = res.scan_to_cad.translation();
   res.optical_axis = res.scan_to_cad.linear().col(2).normalized();
   report("register", 1.0);

@@ -108,10 +108,14 @@ double final_distance_mm(const IcpParams& icp, const CadTarget& target) {
 // under it is not refined further: the fine pass measures the fitness at a third of the coarse pass's distance, and
 // the support discounts it again, so it cannot win (a wrong global start of the demo ran 70 fine iterations, 0.18 s,
 // to 0.58 against the right start's 0.98).
-// `grow`: whether the zones around the cables grow by the start's uncertainty in the coarse pass (see below).
+// The zones around the cables grow by a start's uncertainty at most this much in the coarse pass (see refine).
+constexpr double kZoneGrowCapMm = 20.0;
+
+// `grow_cap_mm`: the zones around the cables grow in the coarse pass by the start's uncertainty, at most this much
+// (0: not grown; see below).
 Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
            double expected_error_mm, const ScanToCadParams& params, const ProgressFn& progress,
-           const RangeBins* bins, double beaten_below = 0.0, bool grow = true) {
+           const RangeBins* bins, double beaten_below = 0.0, double grow_cap_mm = kZoneGrowCapMm) {
   IcpParams icp = params.icp;
   const double final_d = final_distance_mm(icp, target);
   icp.final_max_distance_mm = final_d;
@@ -122,7 +126,7 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   // While the pose is uncertain, the zone around each cable grows by that uncertainty (bounded, so that a
   // scene with many cables keeps enough rigid points).
   std::vector<std::uint32_t> keep =
-      points_away_from_cables(scan, start, target, grow ? std::min(expected_error_mm, 20.0) : 0.0);
+      points_away_from_cables(scan, start, target, std::min(expected_error_mm, grow_cap_mm));
   if (keep.size() < std::max<std::size_t>(50, scan.size() / 10)) keep = points_away_from_cables(scan, start, target, 0.0);
   Run run;
   if (keep.size() < 6) return run;
@@ -210,22 +214,33 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
       have = true;
     }
   };
-  double box_fitness = 0.0;
-  if (initial_scan_to_cad) {
-    const Run local = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins);
-    box_fitness = local.box_fitness;
-    consider(local, false);
-  }
   // A pose slid along a symmetry of the scene (parallel pipes, a plate's long edge) still validates, but with a
   // fitness well below a right pose's: below trusted_fitness (or above trusted_in_front_fraction) the global
   // registration is tried too, and the higher support wins; unless a background explains the fitness: inside the
   // CAD's box the pose fits as right poses do, and it puts hardly any CAD face in front of what was measured
   // (ScanToCadParams::box_*).
-  const double in_front = res.free_space.fraction();
-  const bool fits = res.registration.fitness >= params.trusted_fitness ||
-                    (box_fitness >= params.box_trusted_fitness && in_front <= params.box_trusted_in_front_fraction);
-  const bool ok = have && res.registration.fitness >= params.min_fitness && fits &&
-                  in_front <= params.trusted_in_front_fraction;
+  auto fits_as_initial = [&](const Run& r) {
+    const double in_front = r.free_space.fraction();
+    const bool fits = r.reg.fitness >= params.trusted_fitness ||
+                      (r.box_fitness >= params.box_trusted_fitness && in_front <= params.box_trusted_in_front_fraction);
+    return r.reg.inliers > 0 && r.reg.fitness >= params.min_fitness && fits &&
+           in_front <= params.trusted_in_front_fraction;
+  };
+  bool ok = false;
+  if (initial_scan_to_cad) {
+    const Run local = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins);
+    consider(local, false);
+    ok = fits_as_initial(local);
+    // (ScanToCadParams::local_retry_grown_full)
+    if (!ok && params.local_retry_grown_full && params.icp.expected_error_mm > kZoneGrowCapMm) {
+      const Run wide = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins,
+                              support(res.registration, res.free_space), params.icp.expected_error_mm);
+      if (!wide.beaten && support(wide.reg, wide.free_space) > support(res.registration, res.free_space)) {
+        consider(wide, false);
+        ok = fits_as_initial(wide);
+      }
+    }
+  }
   if (!initial_scan_to_cad || (!ok && params.global_fallback)) {
     // The candidates to refine, best first; everything the search needed is freed before the refinement
     // (each refinement draws its own view of the CAD).
@@ -290,7 +305,7 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
                            grown.free_space.fraction() <= params.trusted_in_front_fraction;
       if (params.global_refine_ungrown && !trusted && !grown.beaten)
         consider(refine(points, target, start, expected_mm, params, progress, bins,
-                        have ? support(res.registration, res.free_space) : 0.0, false),
+                        have ? support(res.registration, res.free_space) : 0.0, 0.0),
                  true);
     }
   }

@@ -3,6 +3,7 @@ the code was frozen) on which a change once went wrong, made again one by one th
 i is `ewis simulate --seed <its truth.json "seed"> --defect <kind of scene i>` (src/sim/campaign.cpp), byte for
 byte the same files. Each is inspected as `ewis evaluate` does (with its pose.txt) and compared with its truth."""
 import json
+import math
 import os
 import shutil
 import unittest
@@ -184,6 +185,76 @@ class FreshScenes(unittest.TestCase):
         # its surface, past the run's end) they read as an object.
         truth, report = simulate_and_inspect("fresh_y024", 7930135820276914539, *self.Y40)
         self.assert_no_foreign_object_and_a_pass(truth, report)
+
+
+def pose_difference(transform, truth_transform):
+    """The rotation angle (deg) and the translation (mm) of transform^-1 * truth_transform."""
+    a = [row[:3] for row in transform[:3]]
+    b = [row[:3] for row in truth_transform[:3]]
+    trace = sum(a[k][i] * b[k][i] for i in range(3) for k in range(3))  # trace(A^T B)
+    angle_deg = math.degrees(math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0))))
+    shift_mm = math.dist([row[3] for row in transform[:3]], [row[3] for row in truth_transform[:3]])
+    return angle_deg, shift_mm
+
+
+class PlannedViews(unittest.TestCase):
+    """Scans from `ewis plan`'s covering views (bench/planned_views.py --seed 1357 --scenes 20), made again one by
+    one: the campaign's scene as `ewis simulate --scene-only` of its scene_truth.json seed, its view's camera_to_cad
+    as the plan wrote it, the scan seeded as the script seeds it."""
+
+    def scan_from_view(self, name, scene_seed, defect, camera_to_cad, scan_seed):
+        d = tmpdir(name)
+        scene = os.path.join(d, "scene")
+        scan = os.path.join(d, "scan")
+        out = os.path.join(d, "out")
+        run("simulate", "--scene-only", "--seed", scene_seed, "--defect", defect, "--cables", "3", "--out", scene,
+            "--quiet", check=0)
+        view = os.path.join(d, "view.json")
+        with open(view, "w") as f:
+            json.dump({"best": [{"rank": 1, "camera_to_cad": camera_to_cad}]}, f)
+        run("simulate", "--cad", os.path.join(scene, "scene.obj"), "--plan", os.path.join(scene, "plan.json"),
+            "--viewpoints", view, "--rank", "1", "--seed", scan_seed, "--noise-mm", "0.2", "--outliers", "0.4",
+            "--out", scan, "--quiet", check=0)
+        inspection = run("inspect", "--cad", os.path.join(scan, "scene.obj"), "--plan",
+                         os.path.join(scan, "plan.json"), "--scan", os.path.join(scan, "scan.ply"), "--pose",
+                         os.path.join(scan, "pose.txt"), "--out", out, "--quiet", check=0)
+        with open(os.path.join(scan, "truth.json")) as f:
+            truth = json.load(f)
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+        validate(report, "report.schema.json")
+        shutil.rmtree(d, ignore_errors=True)
+        return truth, report, inspection.stderr
+
+    def test_cables_filling_a_side_view_are_not_registered_onto_the_plate(self):
+        # Scene_010, view 2 (the sensor level with the plate, looking along it): the cables fill most of the view,
+        # the plate is a strip, brackets and connectors are small. From pose.txt (30 mm / 5 deg off) the cables lay
+        # outside the coarse pass's 20 mm zones and were matched onto the plate: 16.6 deg and 129 mm off (fitness
+        # 0.57, 32 % of the CAD in front of the scan), three cables "not found". An untrusted local result is
+        # refined again with the zones grown by the whole expected error (ScanToCadParams::local_retry_grown_full).
+        side = [[-1.0, 0.0, 0.0, 80.532299034], [0.0, -0.258819045, -0.965925826, 576.237257786],
+                [0.0, -0.965925826, 0.258819045, -73.092607863], [0.0, 0.0, 0.0, 1.0]]
+        truth, report, stderr = self.scan_from_view("view_010_2", 17713814334625751485, "none", side, 1357102)
+        angle_deg, shift_mm = pose_difference(report["registration"]["transform"], truth["camera_to_cad"])
+        self.assertLess(angle_deg, 0.1)
+        self.assertLess(shift_mm, 1.0)
+        self.assertGreater(report["registration"]["fitness"], 0.85)
+        self.assertEqual(report["verdict"], "pass")
+        self.assertNotIn("registration is doubtful", stderr)
+
+    def test_a_pose_the_scan_does_not_support_is_warned_about(self):
+        # Scene_011, view 2 (a bend defect; the same kind of side view). Neither pose.txt's refinements nor the global
+        # search find the pose (14.1 deg and 110 mm off; from the true pose ICP stays there at a fitness of 0.96): a
+        # known limit. The pose it keeps has a fitness of 0.54 with 27 % of the CAD's faces toward the sensor in front
+        # of what was measured, and the inspection says so (InspectParams::doubtful_fitness).
+        side = [[-1.0, 0.0, 0.0, -21.224548909], [0.0, -0.258819045, -0.965925826, 570.913128696],
+                [0.0, -0.965925826, 0.258819045, -70.511315656], [0.0, 0.0, 0.0, 1.0]]
+        truth, report, stderr = self.scan_from_view("view_011_2", 9974125156251401964, "bend", side, 1357112)
+        angle_deg, _ = pose_difference(report["registration"]["transform"], truth["camera_to_cad"])
+        if angle_deg > 1.0:
+            self.assertIn("registration is doubtful", stderr)
+        else:  # found after all: then it must not be doubted
+            self.assertNotIn("registration is doubtful", stderr)
 
 
 if __name__ == "__main__":

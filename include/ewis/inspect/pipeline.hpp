@@ -67,6 +67,14 @@ struct InspectParams {
   // under 0.7 (0.66); a 4.4 mm cable whose stretch a dropped run had hidden (fresh campaign `--seed 2468 --campaign
   // 40 --cables 3 --mismatch-patches 150 --outliers 0.45 --noise-mm 0.25`, scene_027, before the fix): 0.51.
   double min_traced_fraction = 0.7;
+  // A registration that validates (ScanToCadParams::min_fitness, max_in_front_fraction) but with a fitness under
+  // doubtful_fitness, or under registration.trusted_fitness with more of the CAD's faces toward the sensor in front
+  // of what it measured than registration.trusted_in_front_fraction, is warned about: the pose may be wrong
+  // (everything after it then is), or parts of the CAD are missing from the assembly. Right poses on the simulated
+  // sets: fitness 0.945-0.998, at most 1.2 % in front; side views of `ewis plan`'s covering sets
+  // (bench/planned_views.py): 0.88-0.98 right, the pose left 110 mm off 0.54 with 27 % in front; poses slid along a
+  // symmetry: 0.83-0.89 with 6-17 % in front. A scan lacking a pipe of its CAD: 1.00 with 19 % (no warning).
+  double doubtful_fitness = 0.7;
   // Touching cables are traced again, each without the points nearer the other's fitted surface, when their
   // first chains come within both radii + untangle_margin_mm (pipeline.cpp, "Touching cables").
   bool untangle_touching = true;
