@@ -104,13 +104,13 @@ double final_distance_mm(const IcpParams& icp, const CadTarget& target) {
   return std::max(icp.final_max_distance_mm, target.spacing_mm + 3.0 * icp.noise_mm);
 }
 
+// The zones around the cables grow by a start's uncertainty at most this much in the coarse pass (see refine).
+constexpr double kZoneGrowCapMm = 20.0;
+
 // `beaten_below`: the support of the best pose refined so far (0: none). A start whose coarse pass ends with a fitness
 // under it is not refined further: the fine pass measures the fitness at a third of the coarse pass's distance, and
 // the support discounts it again, so it cannot win (a wrong global start of the demo ran 70 fine iterations, 0.18 s,
 // to 0.58 against the right start's 0.98).
-// The zones around the cables grow by a start's uncertainty at most this much in the coarse pass (see refine).
-constexpr double kZoneGrowCapMm = 20.0;
-
 // `grow_cap_mm`: the zones around the cables grow in the coarse pass by the start's uncertainty, at most this much
 // (0: not grown; see below).
 Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
