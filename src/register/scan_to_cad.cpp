@@ -13,6 +13,7 @@
 // weak; the robust kernel cannot tell it from a real face at that distance, and it counts as fitness too.
 #include "ewis/register/scan_to_cad.hpp"
 
+#include "ewis/register/weak_direction.hpp"
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -157,6 +158,27 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   fine.initial_max_distance_mm = coarse_icp.final_max_distance_mm;
   run.reg = align_point_to_plane(scan, *view.cloud, *view.tree, coarse.source_to_target, fine, keep, {}, &memory);
   run.reg.iterations += coarse.iterations;
+  // A pose the scene hardly fixes along one direction (weak_direction.hpp): the fitness probed along it, and the fine
+  // pass run again from where it rises most; the higher fitness stays.
+  // Again while the fitness rises (a pose far off along the plate climbs params.weak_direction.reach_mm a round).
+  for (int round = 0; params.weak_direction.enabled && round < params.weak_direction.max_rounds; ++round) {
+    const std::vector<std::uint32_t> probe = pick(keep, evenly_strided(keep.size(), params.weak_direction.probe_points));
+    const WeakDirection weak = weakest_translation(scan, probe, *view.cloud, *view.tree, run.reg.source_to_target,
+                                                   run.reg.inlier_distance_mm);
+    if (weak.ratio >= params.weak_direction.max_ratio) break;
+    const double offset = best_offset_along(scan, probe, *view.cloud, *view.tree, run.reg.source_to_target,
+                                            weak.direction, run.reg.inlier_distance_mm, params.weak_direction);
+    if (offset == 0.0) break;
+    Pose moved = run.reg.source_to_target;
+    moved.translation() += offset * weak.direction;
+    std::vector<std::uint32_t> moved_keep = points_away_from_cables(scan, moved, target, 0.0);
+    if (moved_keep.size() < 6) break;
+    RegistrationResult again = align_point_to_plane(scan, *view.cloud, *view.tree, moved, fine, moved_keep);
+    if (!(again.fitness > run.reg.fitness)) break;
+    again.iterations += run.reg.iterations;
+    run.reg = again;
+    keep = std::move(moved_keep);
+  }
   run.excluded = scan.size() - keep.size();
   // Where the fitness alone would not trust the pose: the fitness over the points it maps into the CAD's box grown by
   // box_margin_mm (ScanToCadParams::box_*), which a background just beyond the CAD (a panel 40 mm under the scene's

@@ -10,6 +10,7 @@
 #include "ewis/register/icp.hpp"
 #include "ewis/register/surface_refine.hpp"
 #include "ewis/register/veil_points.hpp"
+#include "ewis/register/weak_direction.hpp"
 
 namespace ewis {
 
@@ -47,6 +48,8 @@ struct ScanToCadParams {
   // and, from a start 30 mm off, lie outside 20 mm zones: the coarse pass matched them onto the plate and
   // connectors (bench/planned_views.py, seed 1357: 6 of 40 side views 80-130 mm off, fitness 0.45-0.57).
   bool local_retry_grown_full = true;
+  // After each fine pass: the fitness probed along the weakest direction of translation (weak_direction.hpp).
+  WeakDirectionParams weak_direction;
   // Speed: every step runs on an evenly strided subsample of the scan of at most this many points (0: all).
   // Six unknowns: 5 x 10^4 well-spread points pin the pose far below the noise; fitness and rmse are measured
   // on the same subsample (an unbiased estimate of the whole scan's).
