@@ -13,7 +13,6 @@
 // weak; the robust kernel cannot tell it from a real face at that distance, and it counts as fitness too.
 #include "ewis/register/scan_to_cad.hpp"
 
-#include "ewis/register/weak_direction.hpp"
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>

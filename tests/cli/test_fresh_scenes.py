@@ -11,20 +11,27 @@ import unittest
 from ewis_cli import run, tmpdir, validate
 
 
-def simulate_and_inspect(name, seed, *defect, pose=True):
-    d = tmpdir(name)
-    scene = os.path.join(d, "scene")
+def inspect_scene(d, scene, pose=True):
+    """Inspects the simulated scene folder `scene` (inside the scratch folder d, removed after) as `ewis evaluate`
+    does; returns its truth.json, its schema-checked report.json and the inspection's stderr."""
     out = os.path.join(d, "out")
-    run("simulate", "--out", scene, "--seed", seed, *defect, "--quiet", check=0)
     initial = ["--pose", os.path.join(scene, "pose.txt")] if pose else []
-    run("inspect", "--cad", os.path.join(scene, "scene.obj"), "--plan", os.path.join(scene, "plan.json"),
-        "--scan", os.path.join(scene, "scan.ply"), *initial, "--out", out, "--quiet", check=0)
+    inspection = run("inspect", "--cad", os.path.join(scene, "scene.obj"), "--plan", os.path.join(scene, "plan.json"),
+                     "--scan", os.path.join(scene, "scan.ply"), *initial, "--out", out, "--quiet", check=0)
     with open(os.path.join(scene, "truth.json")) as f:
         truth = json.load(f)
     with open(os.path.join(out, "report.json")) as f:
         report = json.load(f)
     validate(report, "report.schema.json")
     shutil.rmtree(d, ignore_errors=True)
+    return truth, report, inspection.stderr
+
+
+def simulate_and_inspect(name, seed, *defect, pose=True):
+    d = tmpdir(name)
+    scene = os.path.join(d, "scene")
+    run("simulate", "--out", scene, "--seed", seed, *defect, "--quiet", check=0)
+    truth, report, _ = inspect_scene(d, scene, pose)
     return truth, report
 
 
@@ -218,7 +225,6 @@ class PlannedViews(unittest.TestCase):
         d = tmpdir(name)
         scene = os.path.join(d, "scene")
         scan = os.path.join(d, "scan")
-        out = os.path.join(d, "out")
         run("simulate", "--scene-only", "--seed", scene_seed, "--defect", defect, "--cables", "3", "--out", scene,
             "--quiet", check=0)
         view = os.path.join(d, "view.json")
@@ -227,16 +233,7 @@ class PlannedViews(unittest.TestCase):
         run("simulate", "--cad", os.path.join(scene, "scene.obj"), "--plan", os.path.join(scene, "plan.json"),
             "--viewpoints", view, "--rank", "1", "--seed", scan_seed, "--noise-mm", "0.2", "--outliers", "0.4",
             "--out", scan, "--quiet", check=0)
-        inspection = run("inspect", "--cad", os.path.join(scan, "scene.obj"), "--plan",
-                         os.path.join(scan, "plan.json"), "--scan", os.path.join(scan, "scan.ply"), "--pose",
-                         os.path.join(scan, "pose.txt"), "--out", out, "--quiet", check=0)
-        with open(os.path.join(scan, "truth.json")) as f:
-            truth = json.load(f)
-        with open(os.path.join(out, "report.json")) as f:
-            report = json.load(f)
-        validate(report, "report.schema.json")
-        shutil.rmtree(d, ignore_errors=True)
-        return truth, report, inspection.stderr
+        return inspect_scene(d, scan)
 
     def test_cables_filling_a_side_view_are_not_registered_onto_the_plate(self):
         # Scene_010, view 2 (the sensor level with the plate, looking along it): the cables fill most of the view,

@@ -109,6 +109,14 @@ InterferenceParams params_seen_from(const Eigen::Vector3d& sensor) {
   return p;
 }
 
+// The interferences of cable_A, the scene's only cable, in `cloud` (no rigid element).
+std::vector<Interference> interferences_of_a(const Cloud& cloud, const Scene& scene, const MeasuredCable& A,
+                                             const InterferenceParams& p) {
+  const KdTree tree(cloud.points);
+  const SurfaceIndex rigid;
+  return find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+}
+
 // `found` is one foreign object, gap_mm from the cable.
 void expect_one_foreign_object(const std::vector<Interference>& found, double gap_mm) {
   ASSERT_EQ(found.size(), 1u);
@@ -504,14 +512,12 @@ TEST(Interference, AClumpStandingAloneIsNoiseAnObjectReachingBeyondIsNot) {
     Cloud cloud;
     const MeasuredCable A = straight_cable_along_x(cloud, r);
     add_top_face(cloud, {50.0, 0.25 - half_length, r + 2.0}, {50.0 + 5 * kRes, half_length - 0.25, r + 2.0});
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
     InterferenceParams p = params_seen_from(sensor);
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+    const auto found = interferences_of_a(cloud, scene, A, p);
     if (half_length < 2.0) {
       EXPECT_TRUE(found.empty()) << "a 3 x 3 mm clump standing alone was reported";
       p.min_object_area_mm2 = 0;
-      const auto without = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+      const auto without = interferences_of_a(cloud, scene, A, p);
       ASSERT_EQ(without.size(), 1u);
       EXPECT_NEAR(without[0].min_distance_mm, 2.0, 0.05);
     } else {
@@ -542,9 +548,7 @@ TEST(Interference, StackedPointsDoNotMakeAClumpAnObject) {
           cloud.points.push_back((pixel + 0.3 * k * (sensor - pixel).normalized()).cast<float>());
       }
     ASSERT_EQ(stacks, 10);
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, params_seen_from(sensor));
+    const auto found = interferences_of_a(cloud, scene, A, params_seen_from(sensor));
     if (side == 6)
       EXPECT_TRUE(found.empty()) << "a 36-pixel clump of 286 points was reported";
     else
@@ -566,9 +570,7 @@ TEST(Interference, ACablesOwnEndPastItsRunIsNoPartOfAnObject) {
     const MeasuredCable A = straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {80, 0, 0}, r, 16);
     add_visible_cylinder(cloud, {80.5, 0, 0}, {100, 0, 0}, r);  // its own end, untraced
     add_top_face(cloud, {78.0, -half_width, r + 1.2}, {80.0, half_width, r + 1.2});
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, params_seen_from(sensor));
+    const auto found = interferences_of_a(cloud, scene, A, params_seen_from(sensor));
     if (half_width < 2.0)
       EXPECT_TRUE(found.empty()) << "a 5 x 5 pixel patch grew over the cable's own end into an object";
     else

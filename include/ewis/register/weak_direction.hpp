@@ -26,7 +26,7 @@ struct WeakDirectionParams {
   // 140-scene campaign, a plate seen from above, 0.004-0.009: docs/register.md "Weakly fixed along the plate").
   double max_ratio = 0.01;
   std::size_t probe_points = 5000;  // evenly strided over the points the fine pass used
-  double step_mm = 2.5;             // probe offsets are multiples of this, climbing while the fitness rises
+  double step_mm = 2.5;             // probe offsets are multiples of this, climbing while the fitness does not fall
   double reach_mm = 30.0;           // ... up to this far each way
   double min_gain = 0.002;          // the best offset must raise the fitness by this much (of the probe points)
   // Probe and fine pass are repeated while the fitness rises, at most this many times: a pose 121 mm along the plate
