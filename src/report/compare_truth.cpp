@@ -157,6 +157,7 @@ SceneEvaluation compare_with_truth(const std::string& report_json, const std::st
       c.found = cable && is_false(*cable, "bend_ok");
     } else if (c.kind == "clearance" || c.kind == "foreign_object") {
       c.truth_gap_mm = opt_number(d, "gap_mm");
+      if (const auto seen = d.find("seen"); seen != d.end() && seen->is_boolean()) c.truth_gap_seen = seen->get<bool>();
       if (c.kind == "foreign_object") c.with.reset();  // foreign: `with` null by definition
       double gap = 0.0;
       c.found = c.kind == "foreign_object" ? match_interference(cable, c.with, gap, opt_point(d, "location"))

@@ -1,5 +1,6 @@
 // Scene folders and campaigns (CONTRACT.md "ewis simulate").
 #include "ewis/sim/campaign.hpp"
+#include "ewis/sim/gap_visibility.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -77,7 +78,7 @@ Pose perturb_pose(const Pose& truth, double max_deg, double max_mm, std::uint64_
 SceneSummary write_scene(const std::string& dir, const SimulateOptions& o, const ProgressFn& progress) {
   make_dir(dir);
   if (progress) progress("simulate", 0.0);
-  const SimScene sim = generate_scene(o.scene);
+  SimScene sim = generate_scene(o.scene);
   const Scene cad = nominal_scene(sim, o.mesh);
   SceneSummary s;
   s.dir = dir;
@@ -104,6 +105,7 @@ SceneSummary write_scene(const std::string& dir, const SimulateOptions& o, const
   const ScanOutput scan = scan_scene(built, camera, truth, sp);
   if (progress) progress("simulate", 0.8);
   write_scan_files(dir, scan.scan, camera, truth, o, o.scene.seed);
+  mark_seen_gaps(sim, built, scan.scan, truth);
   write_file_atomic(join(dir, "truth.json"), truth_to_json(sim, truth, &scan.scan, &sp));
   s.points = scan.scan.cloud.size();
   s.outliers = scan.scan.outliers;

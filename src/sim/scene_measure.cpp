@@ -26,6 +26,30 @@ const char* defect_kind_name(DefectKind kind) {
   return "none";
 }
 
+namespace {
+
+// The point of `solid`'s surface nearest to p (outside it): p moved by its distance against the distance's gradient
+// (central differences). p itself when it lies on or inside the solid.
+Eigen::Vector3d closest_on_solid(const Solid& solid, const Eigen::Vector3d& p) {
+  const double d = solid.distance(p);
+  if (!(d > 1e-9)) return p;
+  constexpr double h = 1e-4;
+  Eigen::Vector3d grad;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d e = h * Eigen::Vector3d::Unit(k);
+    grad[k] = (solid.distance(p + e) - solid.distance(p - e)) / (2.0 * h);
+  }
+  return grad.norm() > 1e-12 ? Eigen::Vector3d(p - d * grad.normalized()) : p;
+}
+
+// A point at `radius` from the centreline point c towards `towards` (c itself when they coincide).
+Eigen::Vector3d towards(const Eigen::Vector3d& c, const Eigen::Vector3d& target, double radius) {
+  const Eigen::Vector3d v = target - c;
+  return v.norm() > 1e-12 ? Eigen::Vector3d(c + radius * v.normalized()) : c;
+}
+
+}  // namespace
+
 void measure_scene(SimScene& sim) {
   sim.gaps.clear();
   sim.defects.clear();
@@ -55,8 +79,17 @@ void measure_scene(SimScene& sim) {
     const auto attached = [&](const std::string& n) {
       return std::find(c.attached.begin(), c.attached.end(), n) != c.attached.end();
     };
-    const auto add_gap = [&](const std::string& with, bool foreign, const GapResult& g) {
-      SimGap gap{c.name, with, foreign, g.gap_mm, g.on_cable};
+    // `other_surface`: the other element's closest surface point
+    const auto add_gap = [&](const std::string& with, bool foreign, const GapResult& g,
+                             const Eigen::Vector3d& other_surface) {
+      SimGap gap;
+      gap.cable = c.name;
+      gap.with = with;
+      gap.with_foreign = foreign;
+      gap.gap_mm = g.gap_mm;
+      gap.location = g.on_cable;
+      gap.on_cable_surface = towards(g.on_cable, other_surface, 0.5 * c.diameter_mm);
+      gap.on_other_surface = other_surface;
       sim.gaps.push_back(gap);
       if (g.gap_mm < c.clearance_mm) {
         SimDefect d;
@@ -65,14 +98,22 @@ void measure_scene(SimScene& sim) {
         d.with = foreign ? "" : with;
         d.gap_mm = g.gap_mm;
         d.location = g.on_cable;
+        d.on_cable_surface = gap.on_cable_surface;
+        d.on_other_surface = gap.on_other_surface;
         sim.defects.push_back(d);
       }
     };
     for (std::size_t j = 0; j < nc; ++j)
-      if (j != i && !attached(sim.cables[j].name)) add_gap(sim.cables[j].name, false, pair[i][j]);
+      if (j != i && !attached(sim.cables[j].name)) {
+        const GapResult& g = pair[i][j];
+        add_gap(sim.cables[j].name, false, g, towards(g.on_other, g.on_cable, 0.5 * sim.cables[j].diameter_mm));
+      }
     const Tube tube{&c.as_built, 0.5 * c.diameter_mm};
     for (const SimRigid& r : sim.rigids)
-      if (!attached(r.name)) add_gap(r.name, r.foreign, tube_solid_gap(tube, r.solid));
+      if (!attached(r.name)) {
+        const GapResult g = tube_solid_gap(tube, r.solid);
+        add_gap(r.name, r.foreign, g, closest_on_solid(r.solid, g.on_cable));
+      }
   }
 }
 

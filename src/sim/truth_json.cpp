@@ -80,12 +80,16 @@ std::string truth_to_json(const SimScene& sim, const Pose& camera_to_cad, const 
     j["nominal_min_bend_radius_mm"] = radius_or_null(c.nominal.min_curvature_radius_mm());
     json gaps = json::array();
     for (const auto& g : sim.gaps)
-      if (g.cable == c.name)
-        gaps.push_back({{"with", g.with_foreign ? json(nullptr) : json(g.with)},
-                        {"element", g.with},
-                        {"foreign", g.with_foreign},
-                        {"gap_mm", r4(g.gap_mm)},
-                        {"location", vec(g.location)}});
+      if (g.cable == c.name) {
+        json gj = {{"with", g.with_foreign ? json(nullptr) : json(g.with)},
+                   {"element", g.with},
+                   {"foreign", g.with_foreign},
+                   {"gap_mm", r4(g.gap_mm)},
+                   {"location", vec(g.location)},
+                   {"ends", json::array({vec(g.on_cable_surface), vec(g.on_other_surface)})}};
+        if (g.seen) gj["seen"] = *g.seen;
+        gaps.push_back(gj);
+      }
     j["gaps"] = gaps;
     json pieces = json::array();
     for (const auto& p : c.as_built.pieces) pieces.push_back(piece_json(p));
@@ -106,6 +110,8 @@ std::string truth_to_json(const SimScene& sim, const Pose& camera_to_cad, const 
     } else {
       j["with"] = d.kind == "foreign_object" ? json(nullptr) : json(d.with);
       j["gap_mm"] = r4(d.gap_mm);
+      j["ends"] = json::array({vec(d.on_cable_surface), vec(d.on_other_surface)});
+      if (d.seen) j["seen"] = *d.seen;
     }
     j["location"] = vec(d.location);
     defects.push_back(j);

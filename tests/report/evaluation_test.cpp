@@ -203,6 +203,42 @@ TEST(Summary, CountsAndStatistics) {
   EXPECT_DOUBLE_EQ(*s.seconds_per_scene.max, 5.0);
 }
 
+// The gap goal is over the gaps whose both surfaces were seen (the truth's `seen`): a foreign object whose
+// near side is hidden is read wide (an upper bound) and counts in the overall figure only.
+TEST(Summary, GapErrorWhereBothSurfacesAreSeen) {
+  const auto defect = [](double gap, json seen) {
+    json d = {{"kind", "foreign_object"}, {"element", "cable_A"}, {"with", nullptr}, {"gap_mm", gap}};
+    if (!seen.is_null()) d["seen"] = seen;
+    return d;
+  };
+  std::vector<SceneEvaluation> v;
+  v.push_back(compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {inter(nullptr, 1.3)})}),
+                                 truth({truth_cable("cable_A", nullptr)}, {defect(1.0, true)}), "seen_0.3"));
+  v.push_back(compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {inter(nullptr, 2.8)})}),
+                                 truth({truth_cable("cable_A", nullptr)}, {defect(2.0, true)}), "seen_0.8"));
+  v.push_back(compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {inter(nullptr, 6.0)})}),
+                                 truth({truth_cable("cable_A", nullptr)}, {defect(0.0, false)}), "hidden_6"));
+  v.push_back(compare_with_truth(report("fail", {cable("cable_A", true, nullptr, {inter(nullptr, 1.1)})}),
+                                 truth({truth_cable("cable_A", nullptr)}, {defect(1.0, nullptr)}), "unknown_0.1"));
+  ASSERT_TRUE(v[0].defects[0].truth_gap_seen && *v[0].defects[0].truth_gap_seen);
+  ASSERT_FALSE(v[3].defects[0].truth_gap_seen);
+  const EvaluationSummary s = summarize(v);
+  EXPECT_EQ(s.gap_error_mm.count, 4u);
+  EXPECT_NEAR(*s.gap_error_mm.max, 6.0, 1e-12);
+  EXPECT_EQ(s.gap_error_seen_mm.count, 2u);
+  EXPECT_NEAR(*s.gap_error_seen_mm.max, 0.8, 1e-12);
+  EXPECT_EQ(s.gap_seen_within_goal, 1u);
+  ASSERT_EQ(s.gap_error_by_kind_mm.count("foreign_object"), 1u);
+  EXPECT_EQ(s.gap_error_by_kind_mm.at("foreign_object").count, 4u);
+  EXPECT_EQ(s.gap_within_goal_by_kind.at("foreign_object"), 2u);  // 0.3 and 0.1
+  const json j = json::parse(evaluation_to_json(s, v));
+  EXPECT_EQ(j["gap_error_seen_mm"]["count"], 2);
+  EXPECT_EQ(j["gap_error_seen_mm"]["within_0_5_mm"], 1);
+  EXPECT_EQ(j["gap_error_by_kind_mm"]["foreign_object"]["within_0_5_mm"], 2);
+  EXPECT_EQ(j["scene_results"][2]["defects"][0]["truth_gap_seen"], false);
+  EXPECT_NE(evaluation_to_markdown(s, v, "C").find("both surfaces are seen"), std::string::npos);
+}
+
 TEST(Summary, JsonHasTheContractFieldsAndValidates) {
   const std::vector<SceneEvaluation> scenes = sample_scenes();
   const std::string text = evaluation_to_json(summarize(scenes), scenes);

@@ -84,6 +84,17 @@ TEST(Campaign, SceneFolderHasEveryFileAndTheTruthSchemaFields) {
     EXPECT_TRUE(d["element"].is_string());
     EXPECT_TRUE(d["with"].is_null());
     EXPECT_TRUE(d["gap_mm"].is_number());
+    // the gap's two ends (on the cable's and the object's surfaces) lie gap_mm apart; `seen` says whether the scan
+    // measured both there (gap_visibility.hpp)
+    ASSERT_EQ(d["ends"].size(), 2u);
+    Eigen::Vector3d ends[2];
+    for (int k = 0; k < 2; ++k) {
+      for (int i = 0; i < 3; ++i) ends[k][i] = d["ends"][k][i].get<double>();
+    }
+    if (d["gap_mm"].get<double>() > 0) {
+      EXPECT_NEAR((ends[1] - ends[0]).norm(), d["gap_mm"].get<double>(), 2e-3);
+    }
+    EXPECT_TRUE(d["seen"].is_boolean());
   }
   // The other files read back through the project's readers.
   const InspectionPlan plan = read_plan(dir + "/plan.json");

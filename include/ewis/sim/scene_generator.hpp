@@ -67,6 +67,10 @@ struct SimGap {
   bool with_foreign = false;
   double gap_mm = 0.0;
   Eigen::Vector3d location = Eigen::Vector3d::Zero();  // closest point on the cable's centreline
+  // The gap's two ends: the closest points on the cable's surface and on the other element's surface.
+  Eigen::Vector3d on_cable_surface = Eigen::Vector3d::Zero(), on_other_surface = Eigen::Vector3d::Zero();
+  // With a scan: whether the sensor measured both surfaces at the gap's ends (gap_visibility.hpp).
+  std::optional<bool> seen;
 };
 
 struct SimDefect {
@@ -76,6 +80,9 @@ struct SimDefect {
   double radius_mm = 0.0;  // bend
   double gap_mm = 0.0;     // clearance, foreign_object
   Eigen::Vector3d location = Eigen::Vector3d::Zero();
+  // clearance, foreign_object: as SimGap's
+  Eigen::Vector3d on_cable_surface = Eigen::Vector3d::Zero(), on_other_surface = Eigen::Vector3d::Zero();
+  std::optional<bool> seen;
 };
 
 struct SimScene {
