@@ -11,16 +11,18 @@ using namespace ewis;
 namespace {
 
 // A run along the straight axis a -> b (10 segments) made of the scan points [first, first + count).
-TubeTrace run(const Eigen::Vector3d& a, const Eigen::Vector3d& b, std::uint32_t first, std::uint32_t count) {
+TubeTrace run(const Eigen::Vector3d& a, const Eigen::Vector3d& b, std::uint32_t first, std::uint32_t count,
+              double radius_mm = 4.8) {
   TubeTrace t;
   t.found = true;
   for (int i = 0; i < 10; ++i) {
     SubCable s;
     s.cylinder.start = a + (b - a) * (i / 10.0);
     s.cylinder.end = a + (b - a) * ((i + 1) / 10.0);
-    s.cylinder.radius_mm = 4.8;
+    s.cylinder.radius_mm = radius_mm;
     t.segments.push_back(s);
   }
+  t.radius_mm = radius_mm;
   t.points.resize(count);
   std::iota(t.points.begin(), t.points.end(), first);
   return t;
@@ -84,4 +86,35 @@ TEST(RunConflicts, TouchingCablesKeepTheirRuns) {
   EXPECT_EQ(drop_runs_on_other_cables(cables, scene, scan_points()), 0u);
   EXPECT_EQ(cables[0].runs.size(), 1u);
   EXPECT_EQ(cables[1].runs.size(), 1u);
+}
+
+// Two gauges (plan 4.6 and 4.0 mm) whose runs read low alike (2.13 and 1.85 mm: the fit's bias on thin cables), and a
+// stretch of the thicker one traced by both (2.09 and 2.11 mm): nearer the thinner one's plan radius (2.0) than the
+// thicker one's (2.3), but the thicker one's gauge as measured: the place is the thicker cable's (K40 scene_032: it
+// went to the thinner one, whose trace then took the other's place, a false contact).
+TEST(RunConflicts, TheSharedStretchGoesToTheGaugeItMeasuresAsTheRunsRead) {
+  const Scene scene = two_cables();
+  auto cables = cables_with({run({0, 4, 0}, {190, 4, 0}, 0, 400, 2.13), run({-160, 4, 0}, {0, 4, 0}, 400, 400, 2.09)},
+                            {run({-190, 17, 0}, {190, 17, 0}, 1000, 400, 1.85), run({-160, 4, 0}, {0, 4, 0}, 400, 400, 2.11)});
+  cables[0].nominal_diameter_mm = 4.6;
+  cables[1].nominal_diameter_mm = 4.0;
+  EXPECT_EQ(drop_runs_on_other_cables(cables, scene, scan_points()), 1u);
+  EXPECT_EQ(cables[0].runs.size(), 2u);
+  ASSERT_EQ(cables[1].runs.size(), 1u);
+  EXPECT_EQ(cables[1].runs[0].points.front(), 1000u);
+}
+
+// A cable the sensor hardly sees (a side view) has its other runs on its neighbours, so their radius is not its
+// gauge: without a gauge of its own for each cable the plan radii decide (V20 scene_014_v3: a 4.9 mm cable's stretch,
+// read 2.43 mm, went to a 4.4 mm cable whose other run lay on a 6.2 mm one).
+TEST(RunConflicts, AGaugeReadOnAnotherCableDoesNotDecide) {
+  const Scene scene = two_cables();
+  auto cables = cables_with({run({-160, 4, 0}, {0, 4, 0}, 400, 400, 2.42)},
+                            {run({-190, 17, 0}, {190, 17, 0}, 1000, 400, 3.1), run({-160, 4, 0}, {0, 4, 0}, 400, 400, 2.44)});
+  cables[0].nominal_diameter_mm = 4.9;
+  cables[1].nominal_diameter_mm = 4.4;
+  EXPECT_EQ(drop_runs_on_other_cables(cables, scene, scan_points()), 1u);
+  EXPECT_EQ(cables[0].runs.size(), 1u);
+  ASSERT_EQ(cables[1].runs.size(), 1u);
+  EXPECT_EQ(cables[1].runs[0].points.front(), 1000u);
 }
