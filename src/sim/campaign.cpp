@@ -1,6 +1,5 @@
 // Scene folders and campaigns (CONTRACT.md "ewis simulate").
 #include "ewis/sim/campaign.hpp"
-#include "ewis/sim/gap_visibility.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -14,6 +13,7 @@
 #include "ewis/io/plan_file.hpp"
 #include "ewis/io/pose_file.hpp"
 #include "ewis/raycast/raycaster.hpp"
+#include "ewis/sim/gap_visibility.hpp"
 #include "rng.hpp"
 
 namespace ewis::sim {

@@ -26,12 +26,12 @@ std::vector<RunOnOtherCable> runs_on_other_cables(const std::vector<CableInspect
 // the plan's diameters differ by more than 5 %, the place belongs to the cable whose gauge the two runs' mean fitted
 // radius is nearer (in log): the gauges as the two cables' other runs measure them (the median of their sub-cables'
 // radii, at least 8 of them each) when both have such runs and the two differ as the plan's do, by at least half as
-// much; else the plan radii; else to the
-// cable whose registered CAD surface lies nearer to the shared stretch (mean over the two runs' scan points). The other cable's run is dropped. Why: a run after the first starts from the CAD samples earlier runs left uncovered;
-// where the cable's own points there are out of reach (beside a bracket it touches) and its CAD lies off its
-// as-built course toward a neighbour, the run can start on the neighbour and walk along it. `cables[c].runs` are
-// edited in place (the merged `trace` is not). `cloud`: the scan points the runs index. Returns the
-// number of runs dropped. Deterministic.
+// much; else the plan radii. Otherwise it belongs to the cable whose registered CAD surface lies nearer to the shared
+// stretch (mean over the two runs' scan points). The other cable's run is dropped. Why: a run after the first starts
+// from the CAD samples earlier runs left uncovered; where the cable's own points there are out of reach (beside a
+// bracket it touches) and its CAD lies off its as-built course toward a neighbour, the run can start on the
+// neighbour and walk along it. `cables[c].runs` are edited in place (the merged `trace` is not). `cloud`: the scan
+// points the runs index. Returns the number of runs dropped. Deterministic.
 std::size_t drop_runs_on_other_cables(std::vector<CableInspection>& cables, const Scene& scene,
                                       const std::vector<Eigen::Vector3f>& cloud, double max_shared_fraction = 0.5);
 

@@ -19,16 +19,15 @@
 namespace ewis::sim {
 
 struct GapSeenParams {
-  double cable_reach_mm = 1.5;    // a tube section about 2 x sqrt(3 r) mm long: 7.7 mm for a 5 mm radius
+  double cable_reach_mm = 1.5;    // a tube section 2 sqrt(3 r + 2.25) mm long: 8.3 mm for a 5 mm radius
   double other_within_mm = 0.5;   // the goal's tolerance
   std::size_t min_points = 3;
   double max_gap_over_clearance_mm = 5.0;  // gaps wider than the cable's clearance by more are not looked at
 };
 
 // Sets `seen` of every gap up to max_gap_over_clearance_mm over its cable's clearance and of every clearance /
-// foreign-object defect of `sim` from `scan` (in the sensor's
-// frame, camera_to_cad its pose) of `built` (the as-built scene the scan was taken of: its element names are the
-// cables' and the rigid elements' names).
+// foreign-object defect of `sim` from `scan` (in the sensor's frame, camera_to_cad its pose) of `built` (the as-built
+// scene the scan was taken of: its element names are the cables' and the rigid elements' names).
 void mark_seen_gaps(SimScene& sim, const Scene& built, const ScanResult& scan, const Pose& camera_to_cad,
                     const GapSeenParams& params = {});
 
