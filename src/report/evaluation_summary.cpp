@@ -98,6 +98,24 @@ ErrorStats error_stats(std::vector<double> v) {
   return s;
 }
 
+namespace {
+
+GapErrors gap_errors(const std::vector<double>& errors) {
+  GapErrors e;
+  e.stats = error_stats(errors);
+  e.within_goal = std::size_t(std::count_if(errors.begin(), errors.end(), [](double x) { return x <= kGapGoalMm; }));
+  return e;
+}
+
+ojson gap_errors_json(const GapErrors& e) {
+  ojson j = stats_json(e.stats);
+  j["count"] = e.stats.count;
+  j["within_0_5_mm"] = e.within_goal;
+  return j;
+}
+
+}  // namespace
+
 EvaluationSummary summarize(const std::vector<SceneEvaluation>& scenes) {
   EvaluationSummary s;
   for (const char* k : kStandardKinds) s.defects[k];
@@ -122,11 +140,7 @@ EvaluationSummary summarize(const std::vector<SceneEvaluation>& scenes) {
       const double error = std::abs(*d.measured_gap_mm - *d.truth_gap_mm);
       gap.push_back(error);
       gap_by_kind[d.kind].push_back(error);
-      s.gap_within_goal_by_kind[d.kind] += error <= kGapGoalMm;
-      if (d.truth_gap_seen.value_or(false)) {
-        gap_seen.push_back(error);
-        s.gap_seen_within_goal += error <= kGapGoalMm;
-      }
+      if (d.truth_gap_seen.value_or(false)) gap_seen.push_back(error);
     }
     for (const BendCheck& b : e.bends) {
       if (b.error_pct) bend.push_back(std::abs(*b.error_pct));
@@ -143,8 +157,8 @@ EvaluationSummary summarize(const std::vector<SceneEvaluation>& scenes) {
   s.registration_error_mm = error_stats(reg_mm);
   s.bend_radius_error_pct = error_stats(bend);
   s.gap_error_mm = error_stats(gap);
-  s.gap_error_seen_mm = error_stats(gap_seen);
-  for (auto& [kind, errors] : gap_by_kind) s.gap_error_by_kind_mm[kind] = error_stats(errors);
+  s.gap_error_seen = gap_errors(gap_seen);
+  for (const auto& [kind, errors] : gap_by_kind) s.gap_error_by_kind[kind] = gap_errors(errors);
   s.seconds_per_scene = error_stats(secs);
   return s;
 }
@@ -176,20 +190,10 @@ std::string evaluation_to_json(const EvaluationSummary& s, const std::vector<Sce
     o["bend_radius_error_pct_3_to_20_diameters"] = j;
   }
   o["gap_compared"] = s.gap_error_mm.count;
-  {
-    ojson j = stats_json(s.gap_error_seen_mm);
-    j["count"] = s.gap_error_seen_mm.count;
-    j["within_0_5_mm"] = s.gap_seen_within_goal;
-    o["gap_error_seen_mm"] = j;
-    ojson by_kind = ojson::object();
-    for (const auto& [kind, st] : s.gap_error_by_kind_mm) {
-      ojson k = stats_json(st);
-      k["count"] = st.count;
-      k["within_0_5_mm"] = s.gap_within_goal_by_kind.at(kind);
-      by_kind[kind] = k;
-    }
-    o["gap_error_by_kind_mm"] = by_kind;
-  }
+  o["gap_error_seen_mm"] = gap_errors_json(s.gap_error_seen);
+  ojson by_kind = ojson::object();
+  for (const auto& [kind, g] : s.gap_error_by_kind) by_kind[kind] = gap_errors_json(g);
+  o["gap_error_by_kind_mm"] = by_kind;
   o["registration"] = {{"compared", s.registration_compared},
                        {"within_goal", s.registration_within_goal},
                        {"goal", "rotation <= 0.1 deg and error <= 0.3 mm at the truth's cable points"},
@@ -257,14 +261,13 @@ std::string evaluation_to_markdown(const EvaluationSummary& s, const std::vector
   const ErrorStats& g = s.gap_error_mm;
   o << "| gap error, abs. (median / p95 / max) | " << fmt(g.median, 3, " mm") << " / " << fmt(g.p95, 3, " mm") << " / "
     << fmt(g.max, 3, " mm") << " (" << g.count << " gaps) |\n";
-  const ErrorStats& gs = s.gap_error_seen_mm;
-  o << "| gap error where both surfaces are seen (median / p95 / max; within 0.5 mm) | " << fmt(gs.median, 3, " mm")
-    << " / " << fmt(gs.p95, 3, " mm") << " / " << fmt(gs.max, 3, " mm") << "; " << s.gap_seen_within_goal << " of "
-    << gs.count << " |\n";
-  for (const auto& [kind, st] : s.gap_error_by_kind_mm)
-    o << "| gap error, " << kind << " (median / p95 / max; within 0.5 mm) | " << fmt(st.median, 3, " mm") << " / "
-      << fmt(st.p95, 3, " mm") << " / " << fmt(st.max, 3, " mm") << "; " << s.gap_within_goal_by_kind.at(kind)
-      << " of " << st.count << " |\n";
+  const auto gap_row = [&](const std::string& what, const GapErrors& e) {
+    o << "| gap error" << what << " (median / p95 / max; within 0.5 mm) | " << fmt(e.stats.median, 3, " mm") << " / "
+      << fmt(e.stats.p95, 3, " mm") << " / " << fmt(e.stats.max, 3, " mm") << "; " << e.within_goal << " of "
+      << e.stats.count << " |\n";
+  };
+  gap_row(" where both surfaces are seen", s.gap_error_seen);
+  for (const auto& [kind, e] : s.gap_error_by_kind) gap_row(", " + kind, e);
   o << "| registration within 0.1 deg / 0.3 mm of the truth | " << s.registration_within_goal << " of "
     << s.registration_compared << " (" << pct(s.registration_within_goal, s.registration_compared)
     << "); error at the cables median " << fmt(s.registration_error_mm.median, 3, " mm") << ", p95 "

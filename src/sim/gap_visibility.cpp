@@ -7,18 +7,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "ewis/core/cylinder.hpp"
+
 namespace ewis::sim {
-
-namespace {
-
-double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
-}
-
-}  // namespace
 
 void mark_seen_gaps(SimScene& sim, const Scene& built, const ScanResult& scan, const Pose& camera_to_cad,
                     const GapSeenParams& params) {
@@ -33,44 +24,41 @@ void mark_seen_gaps(SimScene& sim, const Scene& built, const ScanResult& scan, c
     const auto it = index.find(name);
     return it == index.end() ? nullptr : &on[it->second];
   };
-  const auto seen = [&](const std::string& cable_name, const std::string& other, double gap_mm,
-                        const Eigen::Vector3d& location) {
-    const auto cable = std::find_if(sim.cables.begin(), sim.cables.end(),
-                                    [&](const SimCable& c) { return c.name == cable_name; });
-    const std::vector<Eigen::Vector3d>* mine = points_of(cable_name);
-    const std::vector<Eigen::Vector3d>* theirs = points_of(other);
-    if (cable == sim.cables.end() || !mine || !theirs) return false;
-    const double r = 0.5 * cable->diameter_mm;
-    const auto enough = [&](const std::vector<Eigen::Vector3d>& pts, const auto& keep) {
-      std::size_t n = 0;
-      for (const Eigen::Vector3d& p : pts)
-        if (keep(p) && ++n >= params.min_points) return true;
-      return false;
-    };
+  const auto enough = [&](const std::vector<Eigen::Vector3d>& pts, const auto& keep) {
+    std::size_t n = 0;
+    for (const Eigen::Vector3d& p : pts)
+      if (keep(p) && ++n >= params.min_points) return true;
+    return false;
+  };
+  // `line`: the cable's sampled centreline
+  const auto seen = [&](const SimCable& cable, const std::vector<Eigen::Vector3d>& line, const SimGap& g) {
+    const std::vector<Eigen::Vector3d>* mine = points_of(cable.name);
+    const std::vector<Eigen::Vector3d>* theirs = points_of(g.with);
+    if (!mine || !theirs) return false;
+    const double r = 0.5 * cable.diameter_mm;
     const double cable_reach = r + params.cable_reach_mm;
-    if (!enough(*mine, [&](const Eigen::Vector3d& p) { return (p - location).norm() <= cable_reach; })) return false;
+    if (!enough(*mine, [&](const Eigen::Vector3d& p) { return (p - g.location).norm() <= cable_reach; })) return false;
     // The other's points within gap + other_within_mm of the cable's surface, looked for within `ball` of the gap.
-    const double within = r + std::max(gap_mm, 0.0) + params.other_within_mm;
+    const double within = r + std::max(g.gap_mm, 0.0) + params.other_within_mm;
     const double ball = within + 5.0;
-    const std::vector<Eigen::Vector3d> line = sample_route(cable->as_built, 0.5);
-    std::vector<std::size_t> near;  // centreline samples that may be the nearest to a point in the ball
-    for (std::size_t i = 0; i < line.size(); ++i)
-      if ((line[i] - location).norm() <= ball + within + 1.0) near.push_back(i);
+    std::vector<Cylinder> near;  // centreline pieces that may hold the nearest point to a point in the ball
+    for (std::size_t i = 0; i + 1 < line.size(); ++i)
+      if (std::min((line[i] - g.location).norm(), (line[i + 1] - g.location).norm()) <= ball + within + 1.0)
+        near.push_back(Cylinder{line[i], line[i + 1], 0.0});
     return enough(*theirs, [&](const Eigen::Vector3d& p) {
-      if ((p - location).norm() > ball) return false;
+      if ((p - g.location).norm() > ball) return false;
       double d = std::numeric_limits<double>::infinity();
-      for (std::size_t i : near) {
-        if (i + 1 < line.size()) d = std::min(d, segment_distance(p, line[i], line[i + 1]));
-        if (i > 0) d = std::min(d, segment_distance(p, line[i - 1], line[i]));
-      }
+      for (const Cylinder& piece : near) d = std::min(d, distance_to_segment(piece, p));
       return d <= within;
     });
   };
-  for (SimGap& g : sim.gaps) {
-    const auto cable = std::find_if(sim.cables.begin(), sim.cables.end(),
-                                    [&](const SimCable& c) { return c.name == g.cable; });
-    if (cable != sim.cables.end() && g.gap_mm <= cable->clearance_mm + params.max_gap_over_clearance_mm)
-      g.seen = seen(g.cable, g.with, g.gap_mm, g.location);
+  for (const SimCable& cable : sim.cables) {
+    std::vector<Eigen::Vector3d> line;  // sampled once a gap of the cable is looked at
+    for (SimGap& g : sim.gaps) {
+      if (g.cable != cable.name || g.gap_mm > cable.clearance_mm + params.max_gap_over_clearance_mm) continue;
+      if (line.empty()) line = sample_route(cable.as_built, 0.5);
+      g.seen = seen(cable, line, g);
+    }
   }
   for (SimDefect& d : sim.defects)
     if (d.kind == "clearance" || d.kind == "foreign_object")

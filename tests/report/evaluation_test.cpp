@@ -225,12 +225,12 @@ TEST(Summary, GapErrorWhereBothSurfacesAreSeen) {
   const EvaluationSummary s = summarize(v);
   EXPECT_EQ(s.gap_error_mm.count, 4u);
   EXPECT_NEAR(*s.gap_error_mm.max, 6.0, 1e-12);
-  EXPECT_EQ(s.gap_error_seen_mm.count, 2u);
-  EXPECT_NEAR(*s.gap_error_seen_mm.max, 0.8, 1e-12);
-  EXPECT_EQ(s.gap_seen_within_goal, 1u);
-  ASSERT_EQ(s.gap_error_by_kind_mm.count("foreign_object"), 1u);
-  EXPECT_EQ(s.gap_error_by_kind_mm.at("foreign_object").count, 4u);
-  EXPECT_EQ(s.gap_within_goal_by_kind.at("foreign_object"), 2u);  // 0.3 and 0.1
+  EXPECT_EQ(s.gap_error_seen.stats.count, 2u);
+  EXPECT_NEAR(*s.gap_error_seen.stats.max, 0.8, 1e-12);
+  EXPECT_EQ(s.gap_error_seen.within_goal, 1u);
+  ASSERT_EQ(s.gap_error_by_kind.count("foreign_object"), 1u);
+  EXPECT_EQ(s.gap_error_by_kind.at("foreign_object").stats.count, 4u);
+  EXPECT_EQ(s.gap_error_by_kind.at("foreign_object").within_goal, 2u);  // 0.3 and 0.1
   const json j = json::parse(evaluation_to_json(s, v));
   EXPECT_EQ(j["gap_error_seen_mm"]["count"], 2);
   EXPECT_EQ(j["gap_error_seen_mm"]["within_0_5_mm"], 1);

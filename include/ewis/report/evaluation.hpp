@@ -80,6 +80,12 @@ struct ErrorStats {
 // Median and p95 by linear interpolation between order statistics (numpy's default).
 ErrorStats error_stats(std::vector<double> values);
 
+// Absolute gap errors and how many of them are within the 0.5 mm.
+struct GapErrors {
+  ErrorStats stats;
+  std::size_t within_goal = 0;
+};
+
 struct DefectTally {
   std::size_t present = 0, found = 0;
 };
@@ -92,12 +98,9 @@ struct EvaluationSummary {
   ErrorStats bend_radius_error_pct;                      // absolute errors
   std::size_t bend_radius_missing = 0;                   // truth has a radius, the report none
   ErrorStats gap_error_mm;                               // absolute errors
-  ErrorStats gap_error_seen_mm;                          // ... of the gaps whose both surfaces were seen
-  std::size_t gap_seen_within_goal = 0;                  // of those, within 0.5 mm
-  // The absolute gap errors per defect kind (clearance: read from the models; foreign_object: from its seen points),
-  // with how many are within 0.5 mm.
-  std::map<std::string, ErrorStats> gap_error_by_kind_mm;
-  std::map<std::string, std::size_t> gap_within_goal_by_kind;
+  GapErrors gap_error_seen;                             // ... of the gaps whose both surfaces were seen
+  // ... per defect kind (clearance: read from the models; foreign_object: from its seen points)
+  std::map<std::string, GapErrors> gap_error_by_kind;
   ErrorStats seconds_per_scene;                          // scenes that ran
   // Registration against the truth: within the goal (<= 0.1 deg and <= 0.3 mm at the scene's points).
   std::size_t registration_compared = 0, registration_within_goal = 0;
