@@ -99,7 +99,7 @@ void read_ascii(const std::string& path, std::string_view bytes, const PcdHeader
             if (!parse_number(tok, v)) throw bad();
             std::memcpy(&packed[i], &v, 4);
           } else {
-            std::uint64_t v;
+            std::uint64_t v = 0;  // set by parse_number (zeroed: g++ 12 with the sanitizers' flags cannot tell)
             if (!parse_number(tok, v)) throw bad();
             packed[i] = static_cast<std::uint32_t>(v);
           }
