@@ -428,9 +428,15 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     std::vector<Eigen::Vector3d>& pts = o.pts;
     std::vector<double>& scales = o.scales;
     FilletFit& f = o.fit;
+    // A corner the fit drew to a point: its radius under the tube's, where the data no longer change with it (the
+    // radius's variance unbounded). A kink whose arc the scan hardly shows (C scene_001: 13.8 deg of 21.45 mm on a
+    // 13.7 mm cable, right after a stretch another cable hides) ends so as often as at a small finite radius; either
+    // way no fit pins the radius down, and the bound below decides it.
+    const bool collapsed = std::isfinite(f.model.bend_radius_mm) && f.model.bend_radius_mm < f.model.tube_radius_mm &&
+                           !std::isfinite(f.bend_radius_se_mm);
     // The shape of a bend (a fit that did not converge may still bound the radius: see below).
     const double init_turn_deg = init.turn_rad() * 180.0 / M_PI, fit_turn_deg = f.model.turn_rad() * 180.0 / M_PI;
-    const bool shaped = std::isfinite(f.model.bend_radius_mm) && std::isfinite(f.bend_radius_se_mm) &&
+    const bool shaped = std::isfinite(f.model.bend_radius_mm) && (std::isfinite(f.bend_radius_se_mm) || collapsed) &&
                         fit_turn_deg >= params.min_turn_deg &&
                         fit_turn_deg - init_turn_deg <=
                             std::max(params.max_turn_excess_deg, params.max_turn_excess_fraction * init_turn_deg) &&
@@ -468,7 +474,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       o.ok = true;
       return;
     }
-    if (!(p.radius_mm - R > 2.0 * se)) return;
+    if (!collapsed && !(p.radius_mm - R > 2.0 * se)) return;
     // The competing hypothesis: the same model held at the circle windows' radius. The data must prefer
     // the fit's radius clearly (a wrong local minimum of a thin cable's fit does not).
     FilletFitParams held = params.fit;
