@@ -264,6 +264,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     std::vector<double> scales;
     double s0 = 0.0, s1 = 0.0;  // the window (arc length along the centreline)
     bool explained = false;  // another candidate's looser fillet explains this one's points (see below)
+    bool cut = false;  // refused: its fillet's window cuts the bend (a leg unseen; see below)
     bool narrow = false;  // the fillet over the smooth tube's narrower window reads it (FilletRefineParams::narrow_*)
     FilletFit narrow_fit;
   };
@@ -420,6 +421,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (t1 >= 0 && t2 >= 0 && lo > o.s0 && hi < o.s1 &&
           (unseen(lo, o.s0, p_lo, leg_lo, p_hi) || unseen(hi, o.s1, p_hi, leg_hi, p_lo))) {
         o = Outcome{};
+        o.cut = true;
         return;
       }
     }
@@ -794,7 +796,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const BendSample& p = bend.profile[cands[k].profile];
       if (!std::isfinite(p.radius_mm)) return;
       const double end_reach = params.circle_explained_end_diameters * diameter_mm;
-      if (p.window_start_mm > end_reach && p.window_end_mm < total - end_reach) return;  // away from the run's ends
+      // Away from the run's ends, only a window whose fillet was refused for cutting the bend.
+      const bool cut = o.cut && params.circle_explained_cut;
+      if (!cut && p.window_start_mm > end_reach && p.window_end_mm < total - end_reach) return;
       const double mid = 0.5 * (p.window_start_mm + p.window_end_mm);
       std::vector<std::size_t> own;  // the circle window's surface points
       for (std::size_t i = 0; i < surface_points.size(); ++i)

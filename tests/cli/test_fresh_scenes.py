@@ -94,6 +94,28 @@ class FreshScenes(unittest.TestCase):
         t, b = truth_and_report_cable(truth, report, "cable_B")
         self.assert_bend_within_5_percent(b, t)
 
+    def test_a_kink_whose_fit_is_drawn_to_a_point_is_bounded(self):
+        # Seed 2026's scene_001 (the README's campaign). cable_A (13.7 mm) has a 13.8 deg kink of 21.45 mm (limit
+        # 34.25) right after 19.3 mm that cable_B hides; its fillet drew the corner to a point (the radius's variance
+        # unbounded), was dropped, and the cable read 67.55 mm at its next bend: a missed defect. Now an upper bound.
+        truth, report = simulate_and_inspect("fresh_c001", 1637080640729033865, "--defect", "bend")
+        t, a = truth_and_report_cable(truth, report, "cable_A")
+        self.assertTrue(a["min_bend_radius_is_bound"])
+        self.assertLess(a["min_bend_radius_mm"], t["allowed_bend_radius_mm"])
+        self.assertGreater(a["min_bend_radius_mm"], t["min_bend_radius_mm"])  # a bound lies above the truth
+        self.assertFalse(a["bend_ok"])
+        self.assertEqual(report["verdict"], "fail")
+
+    def test_a_circle_figure_whose_fillet_cut_the_arc_gives_way_to_the_arcs_fillets(self):
+        # Seed 6061's scene_019 (B40: `--defect bend --cables 3 --pose-error-deg 5 --pose-error-mm 15`). cable_B
+        # (5.5 mm): an arc of 56.16 mm over 80 deg in the middle of its run. The candidate in its middle had its fillet
+        # refused (the arc goes on past the window) and its circle figure, 53.07 +- 1.15, won over the two fillets
+        # that read the arc 56.25 +- 0.25 and 56.16 +- 0.48 (FilletRefineParams::circle_explained_cut).
+        truth, report = simulate_and_inspect("fresh_b019", 13722413221345252063, "--defect", "bend", "--cables", "3",
+                                             "--pose-error-deg", "5", "--pose-error-mm", "15")
+        t, b = truth_and_report_cable(truth, report, "cable_B")
+        self.assert_bend_within_5_percent(b, t)
+
     def test_a_smooth_tubes_peak_at_a_runs_end_is_no_bend(self):
         # Seed 7777's scene_052 (H60). A 10.9 mm cable's run starts where it leaves its connector, on a helix: the
         # smooth tube over the run's first 28 mm read a peak of 27.48 +- 0.39 mm 7 mm from the run's start, for a

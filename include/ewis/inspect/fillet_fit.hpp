@@ -370,6 +370,11 @@ struct FilletRefineParams {
   double circle_explained_min_log_likelihood_ratio = 4.0;
   double circle_explained_end_diameters = 2.0;
   std::size_t circle_explained_min_points = 30;
+  // The same for a circle figure anywhere along the run whose own fillet was refused for cutting the bend (its arc
+  // goes on past a leg the window leaves unseen): the window is too short for the bend another candidate holds, and
+  // its centreline figure, one of many windows over a long arc, is the one that read low (B40 scene_019's cable_B,
+  // 5.5 mm: 53.07 +- 1.15 for an arc of 56.16 that two fillets read 56.25 +- 0.25 and 56.16 +- 0.48).
+  bool circle_explained_cut = true;
   SmoothTubeFitParams smooth_fit;
 };
 
