@@ -26,7 +26,7 @@ Each scene is then scanned by `ewis simulate --cad scene.obj --plan plan.json --
 --scene-truth scene_truth.json` (the project's scanner: noise along the rays, 40 % outliers, a perturbed
 pose.txt), which writes truth.json with the camera pose. Evaluate with `ewis evaluate --campaign OUT`.
 
-Usage: spline_scenes.py --ewis build/bin/ewis --out DIR [--scenes 20] [--seed 1] [--deviation-mm 6] [--bundle]
+Usage: spline_scenes.py --ewis build/bin/ewis --out DIR [--scenes 20] [--first 0] [--seed 1] [--deviation-mm 6] [--bundle]
                         [--noise-mm 0.2] [--outliers 0.4]
 """
 import argparse
@@ -456,6 +456,8 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--scenes", type=int, default=20)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--first", type=int, default=0,
+                    help="index of the first scene (scene i is the same whatever --first and --scenes)")
     ap.add_argument("--deviation-mm", type=float, default=6.0)
     ap.add_argument("--noise-mm", type=float, default=None)
     ap.add_argument("--outliers", type=float, default=None)
@@ -465,7 +467,7 @@ def main():
                     help="sides of each cable's mesh (a coarse CAD export: 8-12; the truth keeps the vertices' radius)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
-    for i in range(a.scenes):
+    for i in range(a.first, a.first + a.scenes):
         rng = np.random.default_rng([a.seed, i])
         made = None
         while made is None:
@@ -486,7 +488,7 @@ def main():
         if a.outliers is not None:
             cmd += ["--outliers", str(a.outliers)]
         subprocess.run(cmd, check=True)
-        print("scene %d/%d: %d cable(s), %s" % (i + 1, a.scenes, len(truth["cables"]),
+        print("scene %d/%d: %d cable(s), %s" % (i - a.first + 1, a.scenes, len(truth["cables"]),
                                                ", ".join("%s %.1f mm (%.1f d)" % (c["name"], c["min_bend_radius_mm"],
                                                                                   c["min_bend_radius_mm"] / c["diameter_mm"])
                                                          for c in truth["cables"])), file=sys.stderr)

@@ -6,7 +6,7 @@ packages=(
   libeigen3-dev libnanoflann-dev libembree-dev libtbb-dev libassimp-dev libcli11-dev nlohmann-json3-dev
   libspdlog-dev libfmt-dev liblzf-dev libstb-dev zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-jsonschema
+  python3 python3-jsonschema python3-numpy
   chromium fonts-dejavu-core
 )
 missing=()

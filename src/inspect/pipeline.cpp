@@ -422,6 +422,21 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
             ++dropped;
           }
       }
+      // No start found at all (InspectParams::retrace_unfound): beside a touching neighbour every start sphere on the
+      // CAD held the neighbour's surface too; without the other cables' runs the cable's own surface is left.
+      if (params.retrace_unfound && res.cables[c].runs.empty())
+        for (std::size_t o = 0; o < cable_plans.size(); ++o) {
+          if (o == c) continue;
+          for (std::size_t k = 0; k < res.cables[o].runs.size(); ++k) {
+            if (lost[o][k]) continue;
+            if (mask.empty()) mask = usable;
+            for (std::uint32_t i : res.cables[o].runs[k].points)
+              if (mask[i]) {
+                mask[i] = 0;
+                ++dropped;
+              }
+          }
+        }
       if (!first[c].chain.empty())
         for (std::size_t o = 0; o < cable_plans.size(); ++o) {
           if (o == c || first[o].chain.empty()) continue;

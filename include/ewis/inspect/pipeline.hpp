@@ -81,6 +81,10 @@ struct InspectParams {
   // ... and a cable whose first run lies on another cable's run, whose place that cable's CAD claims
   // (run_conflicts.hpp), is traced again without that run's points (pipeline.cpp, "Touching cables").
   bool retrace_runs_on_others = true;
+  // ... and a cable no start was found for is traced again without the other cables' runs' points: beside a touching
+  // neighbour every start sphere on its CAD held the neighbour's surface too, and no tube fitted there (spline
+  // bundle SB20 scene_009: cable_A not found, traced whole when cable_B's points are left out).
+  bool retrace_unfound = true;
   double untangle_margin_mm = 2.0;
   BendRadiusParams bend;
   FilletRefineParams fillet;            // tight bends re-measured on the surface points
