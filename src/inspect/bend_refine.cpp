@@ -431,9 +431,9 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     std::vector<double>& scales = o.scales;
     FilletFit& f = o.fit;
     // A corner the fit drew to a point: its radius under the tube's, where the data no longer change with it (the
-    // radius's variance unbounded). A kink whose arc the scan hardly shows (C scene_001: 13.8 deg of 21.45 mm on a
-    // 13.7 mm cable, right after a stretch another cable hides) ends so as often as at a small finite radius; either
-    // way no fit pins the radius down, and the bound below decides it.
+    // radius's variance unbounded). The fit of a kink whose arc the scan hardly shows (C scene_001: 13.8 deg of
+    // 21.45 mm on a 13.7 mm cable, right after a stretch another cable hides) ends there as readily as at a small
+    // finite radius; either way no fit pins the radius down, and the bound below decides it.
     const bool collapsed = std::isfinite(f.model.bend_radius_mm) && f.model.bend_radius_mm < f.model.tube_radius_mm &&
                            !std::isfinite(f.bend_radius_se_mm);
     // The shape of a bend (a fit that did not converge may still bound the radius: see below).
