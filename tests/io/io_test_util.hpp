@@ -12,13 +12,12 @@
 #include <vector>
 
 #include "ewis/core/cloud.hpp"
+#include "test_tmp.hpp"
 
 namespace io_test {
 
 inline std::string tmp_dir() {
-  const std::string d = std::string(EWIS_TEST_TMP) + "/io";
-  std::filesystem::create_directories(d);
-  return d;
+  return ewis::test::own_tmp_dir("io").string();
 }
 
 inline std::string write_bytes(const std::string& name, const std::string& content) {

@@ -9,6 +9,7 @@
 #include "ewis/core/error.hpp"
 #include "ewis/plan/viewpoint_plan.hpp"
 #include "plan_scenes.hpp"
+#include "test_tmp.hpp"
 
 namespace ewis {
 namespace {
@@ -177,7 +178,7 @@ TEST(Viewpoints, WritesJsonAndPictures) {
   ViewpointParams p = quick_params();
   p.top = 2;
   const ViewpointPlan vp = plan_viewpoints(scene, plan.sensor, {0, 2}, p);
-  const std::filesystem::path dir = std::filesystem::path(EWIS_TEST_TMP) / "plan_outputs";
+  const std::filesystem::path dir = ewis::test::own_tmp_dir("plan_outputs");
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   write_viewpoint_outputs(scene, vp, dir.string());

@@ -8,6 +8,7 @@
 #include "ewis/register/point_normals.hpp"
 #include "ewis/register/registration_input.hpp"
 #include "synthetic_scene.hpp"
+#include "test_tmp.hpp"
 
 namespace ewis {
 namespace {
@@ -61,8 +62,7 @@ TEST(Fpfh, InvariantToRigidMotionAndPartsSumTo100) {
 }
 
 TEST(RegistrationInput, PlyWithFacesIsAMesh) {
-  const std::string dir = std::string(EWIS_TEST_TMP) + "/register";
-  std::filesystem::create_directories(dir);
+  const std::string dir = ewis::test::own_tmp_dir("register").string();
   const std::string mesh = dir + "/tri.ply", cloud = dir + "/pts.ply";
   std::ofstream(mesh) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"

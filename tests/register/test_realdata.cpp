@@ -1,5 +1,5 @@
 // Real scans: the Stanford bunny range scans (ground truth in bun.conf), PCL's bun0/bun4 and chef in rs1.
-// Coloured PLYs (target grey, registered source red) go to EWIS_TEST_TMP/register/ for a person to look at.
+// Coloured PLYs (target grey, registered source red) go to EWIS_TEST_TMP/register/<test>/ for a person to look at.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -10,6 +10,7 @@
 
 #include "ewis/io/cloud_io.hpp"
 #include "ewis/register/cloud_registration.hpp"
+#include "test_tmp.hpp"
 
 namespace ewis {
 namespace {
@@ -20,9 +21,7 @@ const std::string kPcl = std::string(EWIS_REALDATA_DIR) + "/pcl/";
 bool exists(const std::string& p) { return std::filesystem::exists(p); }
 
 std::string out_dir() {
-  const std::string d = std::string(EWIS_TEST_TMP) + "/register";
-  std::filesystem::create_directories(d);
-  return d;
+  return ewis::test::own_tmp_dir("register").string();
 }
 
 void write_overlay(const Cloud& source, const Cloud& target, const Pose& source_to_target, const std::string& name) {

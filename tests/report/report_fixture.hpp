@@ -11,11 +11,12 @@
 #include "ewis/raycast/raycaster.hpp"
 #include "ewis/scene/primitives.hpp"
 #include "ewis/scene/scene.hpp"
+#include "test_tmp.hpp"
 
 namespace ewis::test {
 
 inline std::string test_dir(const std::string& name) {
-  const std::string dir = std::string(EWIS_TEST_TMP) + "/report/" + name;
+  const std::string dir = (own_tmp_dir("report") / name).string();
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -12,14 +12,14 @@
 #include "ewis/core/error.hpp"
 #include "ewis/scene/primitives.hpp"
 #include "ewis/scene/scene.hpp"
+#include "test_tmp.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 std::string tmp_path(const std::string& name) {
-  const fs::path dir = fs::path(EWIS_TEST_TMP) / "scene";
-  fs::create_directories(dir);
+  const fs::path dir = ewis::test::own_tmp_dir("scene");
   return (dir / name).string();
 }
 

@@ -12,14 +12,14 @@
 #include "ewis/scene/scene.hpp"
 #include "import_assimp.hpp"
 #include "read_obj_mesh.hpp"
+#include "test_tmp.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 std::string write_text(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::path(EWIS_TEST_TMP) / "obj";
-  fs::create_directories(dir);
+  const fs::path dir = ewis::test::own_tmp_dir("obj");
   const std::string p = (dir / name).string();
   std::ofstream(p, std::ios::binary) << text;
   return p;

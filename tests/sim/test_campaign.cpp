@@ -10,6 +10,7 @@
 #include "ewis/io/plan_file.hpp"
 #include "ewis/io/pose_file.hpp"
 #include "ewis/sim/campaign.hpp"
+#include "test_tmp.hpp"
 
 using namespace ewis;
 using namespace ewis::sim;
@@ -18,9 +19,8 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string tmp(const std::string& name) {
-  const fs::path p = fs::path(EWIS_TEST_TMP) / "sim" / name;
+  const fs::path p = ewis::test::own_tmp_dir("sim") / name;
   fs::remove_all(p);
-  fs::create_directories(p.parent_path());
   return p.string();
 }
 

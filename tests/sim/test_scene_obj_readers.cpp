@@ -8,12 +8,12 @@
 #include "ewis/sim/scene_generator.hpp"
 #include "import_assimp.hpp"
 #include "read_obj_mesh.hpp"
+#include "test_tmp.hpp"
 
 namespace {
 
 TEST(SceneObjReaders, SimulatedSceneReadsTheSameBothWays) {
-  const std::filesystem::path dir = std::filesystem::path(EWIS_TEST_TMP) / "sim_obj";
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = ewis::test::own_tmp_dir("sim_obj");
   for (std::uint64_t seed : {7u, 12u}) {
     ewis::sim::SceneParams params;
     params.seed = seed;

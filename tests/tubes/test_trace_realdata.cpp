@@ -16,6 +16,7 @@
 #include "ewis/filter/outlier_removal.hpp"
 #include "ewis/search/kdtree.hpp"
 #include "ewis/tubes/trace.hpp"
+#include "test_tmp.hpp"
 
 namespace {
 
@@ -105,8 +106,7 @@ TEST_P(TreeTrunk, FollowedFromTheBaseUpToTheFirstFork) {
   // a trunk: mostly upright, from near the ground (the data under the maple's undergrowth start ~0.5 m up)
   EXPECT_GT(std::abs(b.z() - a.z()) / (b - a).norm(), 0.7);
   EXPECT_LT(std::min(a.z(), b.z()), zmin + 700.0);
-  const fs::path dir = fs::path(EWIS_TEST_TMP) / "tubes";
-  fs::create_directories(dir);
+  const fs::path dir = ewis::test::own_tmp_dir("tubes");
   write_coloured_ply((dir / (name + "_trunk.ply")).string(), cloud, t.points);
 }
 
@@ -125,7 +125,7 @@ TEST(MugRealData, BodyRadiusThroughTheCli) {
   if (!fs::exists(scan)) GTEST_SKIP() << scan << " not available";
   const fs::path bin = fs::path(EWIS_TEST_TMP) / ".." / "bin" / "ewis";
   if (!fs::exists(bin)) GTEST_SKIP() << bin << " not built";
-  const fs::path out = fs::path(EWIS_TEST_TMP) / "tubes" / "mug";
+  const fs::path out = ewis::test::own_tmp_dir("tubes") / "mug";
   fs::create_directories(out);
   // seed: on the body, facing the sensor, from PCL's reference axis (point (45.2, 92.5, 790.2) mm, axis
   // (0.205, -0.722, -0.661)) moved by the radius towards the camera
