@@ -411,32 +411,24 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     }
     std::vector<std::optional<std::vector<TubeTrace>>> again(cable_plans.size());  // traced again, all at once
     parallel_for_each_index(cable_plans.size(), [&](std::size_t c) {
-      std::vector<std::uint8_t> mask;
+      std::vector<std::uint8_t> mask;  // `usable` less the points dropped, made on the first drop
       std::size_t dropped = 0;
-      for (const RunOnOtherCable& o : on_other) {
-        if (o.cable != c) continue;
+      const auto drop = [&](std::uint32_t i) {
         if (mask.empty()) mask = usable;
-        for (std::uint32_t i : res.cables[o.other_cable].runs[o.other_run].points)
-          if (mask[i]) {
-            mask[i] = 0;
-            ++dropped;
-          }
-      }
+        if (!mask[i]) return;
+        mask[i] = 0;
+        ++dropped;
+      };
+      for (const RunOnOtherCable& o : on_other)
+        if (o.cable == c)
+          for (std::uint32_t i : res.cables[o.other_cable].runs[o.other_run].points) drop(i);
       // No start found at all (InspectParams::retrace_unfound): beside a touching neighbour every start sphere on the
       // CAD held the neighbour's surface too; without the other cables' runs the cable's own surface is left.
       if (params.retrace_unfound && res.cables[c].runs.empty())
-        for (std::size_t o = 0; o < cable_plans.size(); ++o) {
-          if (o == c) continue;
-          for (std::size_t k = 0; k < res.cables[o].runs.size(); ++k) {
-            if (lost[o][k]) continue;
-            if (mask.empty()) mask = usable;
-            for (std::uint32_t i : res.cables[o].runs[k].points)
-              if (mask[i]) {
-                mask[i] = 0;
-                ++dropped;
-              }
-          }
-        }
+        for (std::size_t o = 0; o < cable_plans.size(); ++o)
+          for (std::size_t k = 0; o != c && k < res.cables[o].runs.size(); ++k)
+            if (!lost[o][k])
+              for (std::uint32_t i : res.cables[o].runs[k].points) drop(i);
       if (!first[c].chain.empty())
         for (std::size_t o = 0; o < cable_plans.size(); ++o) {
           if (o == c || first[o].chain.empty()) continue;
@@ -450,10 +442,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
               const Eigen::Vector3d p = cloud.points[i].cast<double>();
               const double own = std::abs(distance_to_chain(first[c].chain, p).distance_mm - first[c].radius_mm);
               const double other = std::abs(distance_to_chain(first[o].chain, p).distance_mm - first[o].radius_mm);
-              if (other < own) {
-                mask[i] = 0;
-                ++dropped;
-              }
+              if (other < own) drop(i);
             }
           }
         }
