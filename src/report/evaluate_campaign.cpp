@@ -12,7 +12,7 @@ namespace ewis {
 
 namespace {
 
-const char* kSceneFiles[] = {"scene.obj", "plan.json", "scan.ply", "pose.txt", "truth.json"};
+const char* kSceneFiles[] = {"scene.obj", "plan.json", "scan.ply", "truth.json"};
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -24,7 +24,7 @@ std::string read_text(const std::string& path) {
 
 }  // namespace
 
-std::vector<std::string> campaign_scenes(const std::string& campaign_dir) {
+std::vector<std::string> campaign_scenes(const std::string& campaign_dir, bool need_pose) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::is_directory(campaign_dir, ec)) throw InputError(campaign_dir, "is not a folder");
@@ -36,6 +36,7 @@ std::vector<std::string> campaign_scenes(const std::string& campaign_dir) {
     if (!it->is_directory(ec)) continue;
     bool complete = true;
     for (const char* f : kSceneFiles) complete = complete && fs::is_regular_file(it->path() / f, ec);
+    if (need_pose) complete = complete && fs::is_regular_file(it->path() / "pose.txt", ec);
     if (complete) names.push_back(it->path().filename().string());
   }
   std::sort(names.begin(), names.end());
@@ -45,9 +46,11 @@ std::vector<std::string> campaign_scenes(const std::string& campaign_dir) {
 CampaignEvaluation evaluate_campaign(const std::string& campaign_dir, const std::string& out_dir,
                                      const EvaluateParams& params) {
   namespace fs = std::filesystem;
-  const std::vector<std::string> names = campaign_scenes(campaign_dir);
+  const std::vector<std::string> names = campaign_scenes(campaign_dir, params.use_pose);
   if (names.empty())
-    throw InputError(campaign_dir, "holds no scene folder with scene.obj, plan.json, scan.ply, pose.txt and truth.json");
+    throw InputError(campaign_dir, params.use_pose
+                                       ? "holds no scene folder with scene.obj, plan.json, scan.ply, pose.txt and truth.json"
+                                       : "holds no scene folder with scene.obj, plan.json, scan.ply and truth.json");
   std::error_code ec;
   if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec)) throw InputError(out_dir, "exists and is not a directory");
   fs::create_directories(out_dir, ec);

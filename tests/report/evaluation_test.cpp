@@ -314,6 +314,12 @@ TEST(EvaluateCampaign, FailedRunsAreCountedAndTheCampaignGoesOn) {
   scene("scene_002", false);  // no truth.json: not a scene
   std::filesystem::create_directories(camp + "/notes");
   EXPECT_EQ(campaign_scenes(camp), (std::vector<std::string>{"scene_000", "scene_001"}));
+  // Without pose.txt a folder is a scene only for an evaluation that registers without poses (--no-pose).
+  scene("scene_003", true);
+  std::filesystem::remove(camp + "/scene_003/pose.txt");
+  EXPECT_EQ(campaign_scenes(camp), (std::vector<std::string>{"scene_000", "scene_001"}));
+  EXPECT_EQ(campaign_scenes(camp, false), (std::vector<std::string>{"scene_000", "scene_001", "scene_003"}));
+  std::filesystem::remove_all(camp + "/scene_003");
   std::vector<std::string> seen;
   EvaluateParams p;
   p.on_scene = [&](std::size_t i, std::size_t n, const SceneEvaluation& e) {

@@ -115,9 +115,9 @@ std::string evaluation_to_json(const EvaluationSummary& summary, const std::vect
 std::string evaluation_to_markdown(const EvaluationSummary& summary, const std::vector<SceneEvaluation>& scenes,
                                    const std::string& campaign_dir);
 
-// The scene sub-folders of campaign_dir holding scene.obj, plan.json, scan.ply, pose.txt and truth.json,
-// sorted by name. Throws InputError when campaign_dir is not a readable folder.
-std::vector<std::string> campaign_scenes(const std::string& campaign_dir);
+// The scene sub-folders of campaign_dir holding scene.obj, plan.json, scan.ply, truth.json and (with `need_pose`)
+// pose.txt, sorted by name. Throws InputError when campaign_dir is not a readable folder.
+std::vector<std::string> campaign_scenes(const std::string& campaign_dir, bool need_pose = true);
 
 struct EvaluateParams {
   RunInspectionParams run;
