@@ -1,4 +1,5 @@
 // Tight bends re-measured on the surface points with the line-arc-line model (see fillet_fit.hpp).
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -129,6 +130,55 @@ struct Candidate {
 };
 
 }  // namespace
+
+int fillet_leg_drifts(const FilletModel& m, const std::vector<Eigen::Vector3d>& pts, double kernel_mm,
+                      const FilletRefineParams& params) {
+  int drifting = 0;
+  if (!(params.leg_drift_max_mm > 0)) return drifting;
+  const FilletShape shape = fillet_shape(m);
+  for (int leg = 0; leg < 2; ++leg) {
+    const Eigen::Vector3d& start = leg == 0 ? shape.t1 : shape.t2;
+    const Eigen::Vector3d dir = (leg == 0 ? shape.leg1 : shape.leg2).normalized();
+    const Eigen::Vector3d e1 = dir.unitOrthogonal(), e2 = dir.cross(e1);
+    // A point's residual against an axis moved by a + b t across the leg (t along it) changes by -normal . (a + b t)
+    // (`normal`: the point's outward direction from the axis): the residuals regressed on that, and on a constant (the
+    // tube's radius), by least squares. The drift is b's length over the leg; its significance b's chi-square (2 dof).
+    Eigen::Matrix<double, 5, 5> ata = Eigen::Matrix<double, 5, 5>::Zero();
+    Eigen::Matrix<double, 5, 1> atr = Eigen::Matrix<double, 5, 1>::Zero();
+    double rr = 0, length = 0;
+    std::size_t n = 0;
+    for (const Eigen::Vector3d& x : pts) {
+      const Eigen::Vector3d v = x - start;
+      const double t = v.dot(dir);
+      if (!(t > 0)) continue;
+      const Eigen::Vector3d w = v - t * dir;
+      const double dist = w.norm();
+      const double r = dist - m.tube_radius_mm;
+      if (!(dist > 0) || !(std::abs(r) <= 3.0 * kernel_mm)) continue;
+      const double n1 = w.dot(e1) / dist, n2 = w.dot(e2) / dist;
+      Eigen::Matrix<double, 5, 1> row;
+      row << 1.0, -n1, -n2, -n1 * t, -n2 * t;
+      ata += row * row.transpose();
+      atr += row * r;
+      rr += r * r;
+      length = std::max(length, t);
+      ++n;
+    }
+    if (n < std::max<std::size_t>(params.leg_drift_min_points, 6)) continue;
+    const Eigen::LDLT<Eigen::Matrix<double, 5, 5>> ldlt(ata);
+    if (ldlt.info() != Eigen::Success) continue;
+    const Eigen::Matrix<double, 5, 1> coef = ldlt.solve(atr);
+    const double sigma2 = std::max(rr - coef.dot(atr), 0.0) / double(n - 5);
+    const Eigen::Vector2d b = coef.tail<2>();
+    const Eigen::Matrix<double, 5, 5> cov = ldlt.solve(Eigen::Matrix<double, 5, 5>::Identity()) * sigma2;
+    const Eigen::Matrix2d cov_b = cov.bottomRightCorner<2, 2>();
+    if (!coef.allFinite() || !(cov_b.determinant() > 0)) continue;
+    const double chi2 = b.dot(cov_b.ldlt().solve(b));
+    if (b.norm() * length > params.leg_drift_max_mm && chi2 > params.leg_drift_min_z * params.leg_drift_min_z)
+      drifting |= 1 << leg;
+  }
+  return drifting;
+}
 
 bool arc_goes_on_past_leg(const std::vector<Eigen::Vector3d>& centerline, const std::vector<double>& arc_mm,
                           double a_mm, double b_mm, const Eigen::Vector3d& tangent, const Eigen::Vector3d& leg,
@@ -423,6 +473,33 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         o = Outcome{};
         o.cut = true;
         return;
+      }
+      // A leg that parts from its points (FilletRefineParams::leg_drift_*), running to the centreline's end: the
+      // window's end on its side is brought in to half the leg and the fillet fitted again; refused as a whole if the
+      // leg still parts from its points.
+      const auto kernel = [&](const FilletFit& f) {
+        return params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
+      };
+      // The legs judged: both with leg_drift_inside, else one running to the centreline's end.
+      const bool start_reached = o.s0 <= 1e-9, end_reached = o.s1 >= total - 1e-9;
+      int judged = params.leg_drift_inside ? 3 : 0;
+      if ((first_low && start_reached) || (!first_low && end_reached)) judged |= 1;  // leg 1 runs to that end
+      if ((first_low && end_reached) || (!first_low && start_reached)) judged |= 2;
+      if (const int drifting = judged ? fillet_leg_drifts(o.fit.model, o.pts, kernel(o.fit), params) & judged : 0) {
+        double e0 = o.s0, e1 = o.s1;
+        for (int leg = 0; leg < 2; ++leg) {
+          if (!(drifting & (1 << leg))) continue;
+          const double from = leg == 0 ? t1 : t2;
+          if ((leg == 0) == first_low)  // the leg runs towards the window's start
+            e0 = std::max(e0, from - 0.5 * std::max(from - o.s0, 0.0));
+          else
+            e1 = std::min(e1, from + 0.5 * std::max(o.s1 - from, 0.0));
+        }
+        Outcome t;
+        if (t1 >= 0 && t2 >= 0 && e1 > e0 && fit_window(k, e0, e1, true, t) && t.fit.ok &&
+            std::isfinite(t.fit.model.bend_radius_mm) &&
+            !(fillet_leg_drifts(t.fit.model, t.pts, kernel(t.fit), params) & judged))
+          o = std::move(t);
       }
     }
     const Eigen::Vector3d centre = at_arc(centerline, arc, p.arc_mm);

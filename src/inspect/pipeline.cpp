@@ -586,8 +586,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       surface.reserve(j.points.size());
       for (std::uint32_t i : j.points)
         if (join_usable.empty() ? kept(i) : join_usable[i]) surface.push_back(cloud.points[i].cast<double>());
-      refine_bends_with_fillets(b, j.centerline, surface, j.radius_mm, ci.nominal_diameter_mm, params.fillet,
-                                join_scan);
+      FilletRefineParams across = params.fillet;
+      across.leg_drift_inside = params.joins.fillet_leg_drift_inside;
+      refine_bends_with_fillets(b, j.centerline, surface, j.radius_mm, ci.nominal_diameter_mm, across, join_scan);
       if (!b.min_radius_mm || !b.location || std::string_view(b.min_radius_model) != "fillet") continue;
       const double near = std::max(params.joins.near_gap_diameters * ci.nominal_diameter_mm, params.joins.near_gap_min_mm);
       if (distance_to_segment(Cylinder{j.gap_start, j.gap_end, j.radius_mm}, *b.location) > near) continue;

@@ -118,6 +118,21 @@ class FreshScenes(unittest.TestCase):
         t, b = truth_and_report_cable(truth, report, "cable_B")
         self.assert_bend_within_5_percent(b, t)
 
+    def test_a_fillets_leg_that_parts_from_its_points_at_a_runs_end_is_cut_back(self):
+        # Scene_021 of the fresh set H40 (`ewis simulate --seed 24680 --campaign 40 --cables 3 --mismatch-patches 200
+        # --noise-mm 0.3 --outliers 0.4 --pose-error-deg 6 --pose-error-mm 20`). cable_A, a 23.3 mm hose, has a bend
+        # defect: a 15.7 deg kink of 67.50 mm (limit 104.85) 57.5 mm after a 33.8 deg arc of 205.6 mm. The fillet of the
+        # window at its run's end read 44.70 +- 7.56 (-34 %): its 103 mm leg ran to the run's end over the arc before,
+        # its axis walking 0.64 mm off its points (z 19). Refitted over half that leg it reads 64.92 +- 3.42
+        # (FilletRefineParams::leg_drift_*).
+        truth, report = simulate_and_inspect("fresh_h021", 18322320647454247596, "--defect", "bend", "--cables", "3",
+                                             "--mismatch-patches", "200", "--noise-mm", "0.3", "--outliers", "0.4",
+                                             "--pose-error-deg", "6", "--pose-error-mm", "20")
+        t, a = truth_and_report_cable(truth, report, "cable_A")
+        self.assert_bend_within_5_percent(a, t)
+        self.assertFalse(a["bend_ok"])
+        self.assertEqual(report["verdict"], "fail")
+
     def test_a_cable_no_start_was_found_for_beside_its_neighbour_is_traced(self):
         # The spline bundles of bench/spline_scenes.py (`--seed 34 --bundle`, scene_009; the script needs numpy): two
         # 9.2 mm cables 0.09 mm apart, their CAD 4.5 mm apart. Every start sphere on cable_A's CAD held cable_B's

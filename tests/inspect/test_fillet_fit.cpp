@@ -578,3 +578,33 @@ TEST(FilletRefine, AnArcItsWindowCutIsLeftToTheWindowHoldingItWhole) {
   EXPECT_EQ(arcs_cut_by_their_windows({{200.0, 228.0, 174.0, 228.5, 1.18}, whole}, run, seen),
             (std::vector<std::uint8_t>{0, 0}));
 }
+
+// FilletRefineParams::leg_drift_*, on a 9.7 mm tube bending 41.8 deg at 70.97 mm between 40 mm legs (0.25 mm noise
+// along the rays, 10 % of the points inside the tube), after H40 scene_029's cable_A, where a crossing cable hid the
+// arc's middle: its own model's legs lie along their points (drift 0.01-0.04 mm, z <= 2.4); a fillet that takes the
+// arc's first 17 deg for a corner of 43.68 mm has its second leg leave the arc that goes on (2.8 mm, z 37-39); a leg
+// 0.5 deg off its points walks 0.33 mm over 40 mm (z 21), under the rule's 0.5 mm, however many points show it.
+TEST(FilletRefine, ALegThatPartsFromItsPointsDrifts) {
+  const double r = 4.85, R = 70.97;
+  const FilletRefineParams params;
+  const double kernel = params.fit.kernel_factor * 0.25;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    FilletModel truth;
+    const std::vector<Eigen::Vector3d> pts = bent_tube(r, R, 41.8, 40.0, 0.25, 0.1, seed, &truth);
+    EXPECT_EQ(fillet_leg_drifts(truth, pts, kernel, params), 0) << "seed " << seed;
+    FilletModel corner = truth;  // the same first leg and arc start, turning 17 deg at 43.68 mm
+    const double turn = 17.0 * M_PI / 180.0, tight = 43.68;
+    corner.bend_radius_mm = tight;
+    corner.vertex = Eigen::Vector3d(tight * std::tan(0.5 * turn), 0, 0);
+    corner.leg2 = Eigen::Vector3d(std::cos(turn), std::sin(turn), 0);
+    EXPECT_EQ(fillet_leg_drifts(corner, pts, kernel, params), 2) << "seed " << seed;  // leg 2
+    FilletModel off = truth;  // the second leg turned 0.5 deg about its tangent point
+    const Eigen::Vector3d t2 = truth.vertex + R * std::tan(0.5 * truth.turn_rad()) * truth.leg2;
+    off.leg2 = Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitZ()) * truth.leg2;
+    off.vertex = t2 - R * std::tan(0.5 * off.turn_rad()) * off.leg2;
+    EXPECT_EQ(fillet_leg_drifts(off, pts, kernel, params), 0) << "seed " << seed;
+    FilletRefineParams none = params;
+    none.leg_drift_max_mm = 0;  // off
+    EXPECT_EQ(fillet_leg_drifts(corner, pts, kernel, none), 0);
+  }
+}

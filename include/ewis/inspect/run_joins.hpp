@@ -27,6 +27,9 @@ struct RunJoinParams {
   // near_gap_min_mm) of the gap (the straight line between the ends): elsewhere the runs measure it themselves.
   double near_gap_diameters = 2.0;
   double near_gap_min_mm = 10.0;
+  // The fits across the gap judge their legs on their points wherever their windows lie
+  // (FilletRefineParams::leg_drift_inside): a leg there may lie where nothing was traced.
+  bool fillet_leg_drift_inside = true;
   // The occluder's edge: a structured-light sensor reports mixed pixels along its silhouette, at depths between it and
   // the cable behind, and some lie on the cable's surface band right at the gap's ends, where the fit on both sides
   // is most sensitive (a 27.5 mm bend under a crossing cable read 23.9-26.5 mm with them, 26.7-27.4 without). Scan
