@@ -27,7 +27,8 @@ Command add_evaluate(CLI::App& root, CommonOptions& common) {
   cmd.app->add_flag("--no-clouds", opt->no_clouds,
                     "Skip the coloured PLY files of each scene (cables, interferences, rest: ~12 MB a scene)");
   cmd.app->add_flag("--no-pose", opt->no_pose,
-                    "Ignore each scene's pose.txt (which may then be absent): register globally (measures registration without a pose)");
+                    "Ignore each scene's pose.txt (which may then be absent): register globally (measures "
+                    "registration without a pose)");
   add_common_options(cmd.app, common);
   cmd.run = [opt, &common]() -> int {
     EvaluateParams params;

@@ -475,8 +475,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         return;
       }
       // A leg that parts from its points (FilletRefineParams::leg_drift_*), running to the centreline's end: the
-      // window's end on its side is brought in to half the leg and the fillet fitted again; refused as a whole if the
-      // leg still parts from its points.
+      // window's end on its side is brought in to half the leg and the fillet fitted again; the refit is taken where
+      // its leg lies along its points, else the first fit stands.
       const auto kernel = [&](const FilletFit& f) {
         return params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
       };
