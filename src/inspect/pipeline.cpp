@@ -198,11 +198,9 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   parallel_blocks(cloud.size(), 2048, [&](std::size_t b, std::size_t e) {
     // The cloud is in leaf order: a run of consecutive points is a small patch, and the surface index is walked
     // once per run.
-    rigid_surfaces.closest_each(
-        b, e, params.rigid_surface_mm, [&](std::size_t i) { return cloud.points[i].cast<double>(); },
-        [&](std::size_t i, const Eigen::Vector3d&, const SurfacePoint& s) {
-          if (s.found()) rigid_label[i] = s.element;
-        });
+    rigid_surfaces.closest_element_each(b, e, params.rigid_surface_mm,
+                                        [&](std::size_t i) { return cloud.points[i].cast<double>(); },
+                                        [&](std::size_t i, std::int32_t element) { rigid_label[i] = element; });
   });
   std::vector<std::uint8_t> usable(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) usable[i] = rigid_label[i] < 0 ? 1 : 0;

@@ -95,6 +95,10 @@ void SurfaceIndex::build(std::uint32_t id, std::uint32_t first, std::uint32_t co
   if (count <= 4 || depth > 60) {  // (a leaf above the last level leaves its range's other slots unused)
     nodes_[id].first = first;
     nodes_[id].count = count;
+    const std::int32_t e = static_cast<std::int32_t>(scene_->triangle_element[order_[first]]);
+    nodes_[id].element = e;
+    for (std::uint32_t i = first; i < first + count; ++i)
+      if (static_cast<std::int32_t>(scene_->triangle_element[order_[i]]) != e) nodes_[id].element = -1;
     return;
   }
   int axis;
@@ -176,9 +180,9 @@ void SurfaceIndex::test_triangle(std::uint32_t t, const Eigen::Vector3d& p, doub
   }
 }
 
-void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
-                                 SurfacePoint* out, std::vector<std::uint32_t>& leaves) const {
-  if (n == 0) return;
+bool SurfaceIndex::group_leaves(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
+                                std::vector<std::uint32_t>& leaves) const {
+  leaves.clear();
   bool finite = std::isfinite(max_distance_mm);
   Eigen::Vector3d glo = points[0], ghi = points[0];
   for (std::size_t i = 0; i < n; ++i) {
@@ -186,14 +190,10 @@ void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, d
     glo = glo.cwiseMin(points[i]);
     ghi = ghi.cwiseMax(points[i]);
   }
-  if (!finite || nodes_.empty()) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = closest(points[i], max_distance_mm);
-    return;
-  }
+  if (!finite) return false;
   // Every leaf within the distance of the group's box: each point's answer lies in one of them (a hair of
   // slack keeps a box exactly at the distance).
   const double reach_sq = max_distance_mm * max_distance_mm * (1.0 + 1e-9);
-  leaves.clear();
   std::uint32_t stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -213,6 +213,25 @@ void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, d
       stack[top++] = nd.left;
     }
   }
+  return true;
+}
+
+void SurfaceIndex::closest_in_leaves(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& leaves,
+                                     double& best_d2, SurfacePoint& best) const {
+  for (std::uint32_t id : leaves) {
+    const Node& nd = nodes_[id];
+    if (box_distance_sq(p, nd.lo, nd.hi) > best_d2) continue;
+    for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) test_triangle(order_[k], p, best_d2, best);
+  }
+}
+
+void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
+                                 SurfacePoint* out, std::vector<std::uint32_t>& leaves) const {
+  if (n == 0) return;
+  if (nodes_.empty() || !group_leaves(points, n, max_distance_mm, leaves)) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = closest(points[i], max_distance_mm);
+    return;
+  }
   // Per point, the same least (squared distance, triangle index) as closest(): the leaves it can reach in
   // turn, the last point's triangle first (its distance prunes most of them).
   std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
@@ -221,16 +240,49 @@ void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, d
     SurfacePoint best;
     double best_d2 = max_distance_mm * max_distance_mm;
     if (hint != std::numeric_limits<std::uint32_t>::max()) test_triangle(hint, p, best_d2, best);
-    for (std::uint32_t id : leaves) {
-      const Node& nd = nodes_[id];
-      if (box_distance_sq(p, nd.lo, nd.hi) > best_d2) continue;
-      for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) test_triangle(order_[k], p, best_d2, best);
-    }
+    closest_in_leaves(p, leaves, best_d2, best);
     if (best.element >= 0) {
       best.distance_mm = std::sqrt(best_d2);
       hint = best.triangle;
     }
     out[i] = best;
+  }
+}
+
+void SurfaceIndex::closest_element_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
+                                         std::int32_t* out, std::vector<std::uint32_t>& leaves) const {
+  if (n == 0) return;
+  if (nodes_.empty() || !group_leaves(points, n, max_distance_mm, leaves)) {
+    for (std::size_t i = 0; i < n; ++i) out[i] = closest(points[i], max_distance_mm).element;
+    return;
+  }
+  std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d& p = points[i];
+    SurfacePoint best;
+    double best_d2 = max_distance_mm * max_distance_mm;
+    if (hint != std::numeric_limits<std::uint32_t>::max()) test_triangle(hint, p, best_d2, best);
+    // The answer is the hint's element unless a triangle of another element lies within the hint's distance (a tie
+    // included).
+    bool settled = best.element >= 0;
+    for (std::size_t j = 0; settled && j < leaves.size(); ++j) {
+      const Node& nd = nodes_[leaves[j]];
+      if (nd.element == best.element || box_distance_sq(p, nd.lo, nd.hi) > best_d2) continue;
+      for (std::uint32_t k = nd.first; settled && k < nd.first + nd.count; ++k) {
+        const std::uint32_t t = order_[k];
+        if (static_cast<std::int32_t>(scene_->triangle_element[t]) == best.element) continue;
+        const auto& tri = scene_->triangles[t];
+        const Eigen::Vector3d q = closest_point_on_triangle(p, scene_->vertices[tri[0]].cast<double>(),
+                                                            scene_->vertices[tri[1]].cast<double>(),
+                                                            scene_->vertices[tri[2]].cast<double>());
+        if ((q - p).squaredNorm() <= best_d2) settled = false;
+      }
+    }
+    if (!settled) {
+      closest_in_leaves(p, leaves, best_d2, best);
+      if (best.element >= 0) hint = best.triangle;
+    }
+    out[i] = best.element;
   }
 }
 

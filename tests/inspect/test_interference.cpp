@@ -144,8 +144,9 @@ TEST(SurfaceIndex, ExactDistanceToABox) {
   EXPECT_NEAR(seg.distance_mm, 4.0 / std::sqrt(1.01), 1e-4);
 }
 
-// closest_group answers as closest() point by point: patches of points near (and on) a box and a sphere that
-// touch, within and beyond the distance, and the box's coplanar faces (ties between its two triangles).
+// closest_group (and closest_element_group, the element alone) answers as closest() point by point: patches of points
+// near (and on) a box and a sphere that touch, within and beyond the distance, and the box's coplanar faces (ties
+// between its two triangles).
 TEST(SurfaceIndex, AGroupOfPointsGetsEachPointsOwnAnswer) {
   Scene s;
   add_mesh(s, "box", make_box({0, 0, 0}, {10, 10, 10}));
@@ -164,8 +165,11 @@ TEST(SurfaceIndex, AGroupOfPointsGetsEachPointsOwnAnswer) {
     for (double limit : {0.5, 1.5, 4.0}) {
       std::vector<SurfacePoint> got(pts.size());
       idx.closest_group(pts.data(), pts.size(), limit, got.data(), leaves);
+      std::vector<std::int32_t> element(pts.size());
+      idx.closest_element_group(pts.data(), pts.size(), limit, element.data(), leaves);
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const SurfacePoint want = idx.closest(pts[i], limit);
+        ASSERT_EQ(element[i], want.element) << g << " " << i;
         ASSERT_EQ(got[i].found(), want.found()) << g << " " << i;
         if (!want.found()) {
           ++missed;
@@ -192,6 +196,13 @@ TEST(SurfaceIndex, AGroupOfPointsGetsEachPointsOwnAnswer) {
                      EXPECT_EQ(got.found(), want.found()) << i;
                      EXPECT_EQ(got.triangle, want.triangle) << i;
                    });
+  EXPECT_EQ(next, line.size());
+  next = 3;
+  idx.closest_element_each(3, line.size(), 1.5, [&](std::size_t i) { return line[i]; },
+                           [&](std::size_t i, std::int32_t element) {
+                             EXPECT_EQ(i, next++);
+                             EXPECT_EQ(element, idx.closest(line[i], 1.5).element) << i;
+                           });
   EXPECT_EQ(next, line.size());
   std::vector<SurfacePoint> one(1);
   const Eigen::Vector3d inf(std::numeric_limits<double>::infinity(), 0, 0);

@@ -55,6 +55,27 @@ class SurfaceIndex {
       for (std::size_t j = 0; j < n; ++j) use(i + j, p[j], s[j]);
     }
   }
+  // The element of closest(points[i], max_distance_mm) (-1: nothing within) for each of a few points near one
+  // another, into out[i]: what closest_group answers, without the exact closest triangle where every triangle nearer
+  // than a first one found (the last point's closest) is of that one's element (a point on a plate, away from its
+  // edges). A finite max_distance_mm; else point by point.
+  void closest_element_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm, std::int32_t* out,
+                             std::vector<std::uint32_t>& leaves) const;
+  // closest_element_group over [begin, end) in runs of 16, handed to use(i, element) in order (as closest_each).
+  template <class PointAt, class Use>
+  void closest_element_each(std::size_t begin, std::size_t end, double max_distance_mm, const PointAt& point_at,
+                            const Use& use) const {
+    constexpr std::size_t kRun = 16;
+    Eigen::Vector3d p[kRun];
+    std::int32_t element[kRun];
+    std::vector<std::uint32_t> leaves;
+    for (std::size_t i = begin; i < end; i += kRun) {
+      const std::size_t n = std::min(kRun, end - i);
+      for (std::size_t j = 0; j < n; ++j) p[j] = point_at(i + j);
+      closest_element_group(p, n, max_distance_mm, element, leaves);
+      for (std::size_t j = 0; j < n; ++j) use(i + j, element[j]);
+    }
+  }
   // Least distance from the segment [a, b] to the surface, sampled every step_mm along the segment and refined
   // around the best sample (error far below step for smooth surfaces); infinity when beyond max_distance_mm.
   SurfacePoint closest_to_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double step_mm = 0.25,
@@ -65,6 +86,7 @@ class SurfaceIndex {
     Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();
     std::uint32_t first = 0, count = 0;  // leaf: triangles [first, first + count) of order_
     std::uint32_t left = 0, right = 0;   // inner node (count == 0)
+    std::int32_t element = -1;           // leaf: the element of all its triangles (-1: of several)
   };
   const Scene* scene_ = nullptr;
   std::vector<Node> nodes_;
@@ -73,6 +95,13 @@ class SurfaceIndex {
   // Node `id` over triangles [first, first + count) of order_; its subtrees take the ids after it (left first).
   void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, const std::vector<Eigen::Vector3f>& centroids,
              int depth);
+  // The leaves within max_distance_mm of the box of points[0, n) into `leaves`; false (none listed) when the distance
+  // or a point is not finite.
+  bool group_leaves(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
+                    std::vector<std::uint32_t>& leaves) const;
+  // The least (squared distance, triangle index) over the listed leaves within best_d2 of p (after `best`).
+  void closest_in_leaves(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& leaves, double& best_d2,
+                         SurfacePoint& best) const;
   // Triangle t against the best so far: the least (squared distance, triangle index) below best_d2 wins.
   void test_triangle(std::uint32_t t, const Eigen::Vector3d& p, double& best_d2, SurfacePoint& best) const;
 };
