@@ -307,6 +307,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bool ok = false;
     FilletFit fit;
     bool bound = false;  // the radius is the loosest the data allow (fit.model.bend_radius_mm holds it)
+    double bound_fit_mm = 0.0;  // a bound's: the free fit's radius, at least the tube's
     std::optional<FilletModel> init;  // the fillet's start (the legs from the centreline)
     bool smooth = false; // the smooth tube's radius replaces the fillet's (see FilletRefineParams::smooth)
     SmoothTubeFit smooth_fit;
@@ -603,6 +604,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     f.model.bend_radius_mm = hi;
     // Its standard error: the distance to the free fit over the bound's number of standard errors.
     f.bend_radius_se_mm = (hi - std::min(R, hi)) / std::sqrt(params.bound_log_likelihood_ratio);
+    o.bound_fit_mm = std::min(low, hi);
     o.bound = true;
     o.ok = true;
   }, 1);
@@ -916,6 +918,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   double best_se = 0.0;
   Eigen::Vector3d best_location = Eigen::Vector3d::Zero();
   bool best_bound = false;
+  double best_fit = 0.0;
   const char* best_model = "circle";
   for (std::size_t k = 0; k < cands.size(); ++k) {
     if (outcomes[k].explained) continue;  // the looser fillet that explains it is a candidate too
@@ -923,6 +926,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     double r = p.radius_mm, se = p.radius_se_mm;
     Eigen::Vector3d where = p.point;
     bool bound = false;
+    double fit = 0.0;
     const char* model = "circle";
     if (outcomes[k].smooth) {
       model = "smooth";
@@ -938,6 +942,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       r = f.model.bend_radius_mm;
       se = f.bend_radius_se_mm;
       where = fillet_arc_middle(f.model);
+      if (bound) fit = outcomes[k].bound_fit_mm;
     }
     const double score = r + params.choice_se_factor * se;
     if (score < best_score) {
@@ -946,6 +951,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       best_se = se;
       best_location = where;
       best_bound = bound;
+      best_fit = fit;
       best_model = model;
     }
   }
@@ -954,6 +960,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     bend.min_radius_se_mm = best_se;
     bend.location = best_location;
     bend.min_radius_is_bound = best_bound;
+    bend.min_radius_fit_mm = best_bound ? best_fit : 0.0;
     bend.min_radius_model = best_model;
   }
   return refined;

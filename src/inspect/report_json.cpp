@@ -71,6 +71,9 @@ void write_cable(std::ostringstream& o, const CableInspection& c) {
   // true: min_bend_radius_mm is an upper bound (a kink too short for its radius to be measured; bend_radius.hpp)
   o << in << "\"min_bend_radius_is_bound\": " << (c.min_bend_radius_mm && c.bend.min_radius_is_bound ? "true" : "false")
     << ",\n";
+  // with the bound: the fit's radius under it (at least the tube's; InspectParams::bound_verdict_se), else null
+  o << in << "\"min_bend_radius_fit_mm\": "
+    << (c.min_bend_radius_mm && c.bend.min_radius_is_bound ? num(c.bend.min_radius_fit_mm, 2) : "null") << ",\n";
   // the model the figure comes from (bend_radius.hpp): circle, fillet, bound or smooth
   o << in << "\"min_bend_radius_model\": "
     << (c.min_bend_radius_mm ? std::string("\"") + c.bend.min_radius_model + "\"" : std::string("null")) << ",\n";

@@ -95,7 +95,7 @@ void cable_section(std::ostringstream& o, const InspectionResult& r, std::size_t
   // an upper bound: a kink too short for its radius to be measured, at the loosest radius its points allow
   const std::string bound = c.min_bend_radius_mm && c.bend.min_radius_is_bound ? "&le; " : "";
   o << "<tr><td>min bend radius, 3D centreline</td><td class=\"num\">" << bound << opt_mm(c.min_bend_radius_mm) << se
-    << (bound.empty() ? "" : " (a kink: upper bound)")
+    << (bound.empty() ? "" : " (a kink: upper bound; its best fit " + mm(c.bend.min_radius_fit_mm, 1) + ")")
     << (c.min_bend_radius_mm && std::string(c.bend.min_radius_model) == "smooth" ? " (peak of a smooth bend)" : "")
     << where
     << "</td><td class=\"num\">" << (!inner && has_rule ? "&ge; " + mm(c.allowed_bend_radius_mm) : "&ndash;") << "</td>"

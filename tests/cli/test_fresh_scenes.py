@@ -108,6 +108,20 @@ class FreshScenes(unittest.TestCase):
         self.assertFalse(a["bend_ok"])
         self.assertEqual(report["verdict"], "fail")
 
+    def test_a_kink_bounded_over_its_limit_whose_fit_lies_under_it_fails(self):
+        # R40 (`--seed 3579 --campaign 40 --pose-error-deg 8 --pose-error-mm 40 --noise-mm 0.25 --outliers 0.5`)
+        # scene_001: cable_A's kink (10.64 mm, limit 18.6) is too short for its radius to be measured. It read at most
+        # 22.95 +- 7.35 mm, its fit at 4.57, and passed: a missed defect. An upper bound over the limit passes only
+        # when the fit + 1 standard error reaches the limit too (InspectParams::bound_verdict_se).
+        truth, report = simulate_and_inspect("fresh_r001", 13940546468693284340, "--defect", "bend", "--pose-error-deg",
+                                             "8", "--pose-error-mm", "40", "--noise-mm", "0.25", "--outliers", "0.5")
+        t, a = truth_and_report_cable(truth, report, "cable_A")
+        self.assertTrue(a["min_bend_radius_is_bound"])
+        self.assertGreater(a["min_bend_radius_mm"], t["allowed_bend_radius_mm"])
+        self.assertLess(a["min_bend_radius_fit_mm"] + a["min_bend_radius_se_mm"], t["allowed_bend_radius_mm"])
+        self.assertFalse(a["bend_ok"])
+        self.assertEqual(report["verdict"], "fail")
+
     def test_a_circle_figure_whose_fillet_cut_the_arc_gives_way_to_the_arcs_fillets(self):
         # Seed 6061's scene_019 (B40: `--defect bend --cables 3 --pose-error-deg 5 --pose-error-mm 15`). cable_B
         # (5.5 mm): an arc of 56.16 mm over 80 deg in the middle of its run. The candidate in its middle had its fillet

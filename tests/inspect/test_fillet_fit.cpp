@@ -240,6 +240,10 @@ TEST(FilletRefine, AShortKinkIsReportedAtAnUpperBound) {
     if (b.min_radius_is_bound) {
       ++bounds;
       EXPECT_GT(*b.min_radius_mm, truth) << "seed " << seed;  // a bound lies above the truth
+      // its fit under it: 2.5 standard errors, or less where the free fit lies under the tube's radius
+      EXPECT_GE(b.min_radius_fit_mm, 0.8 * r) << "seed " << seed;
+      EXPECT_GT(*b.min_radius_mm - b.min_radius_fit_mm, 0.0) << "seed " << seed;
+      EXPECT_LE(*b.min_radius_mm - b.min_radius_fit_mm, 2.5 * b.min_radius_se_mm + 1e-9) << "seed " << seed;
     }
   }
   EXPECT_GE(bounds, 3);  // 5 of the 12 noise draws cannot pin the radius (before, all 5 read 130-135 mm)

@@ -57,6 +57,8 @@ struct BendRadiusResult {
   double min_radius_se_mm = 0.0;                               // its standard error (from the fit's covariance)
   bool min_radius_is_bound = false;  // the minimum is an upper bound: a kink too short for its radius to be measured,
                                      // at the loosest radius its surface points allow (bend_refine, fillet_fit.hpp)
+  double min_radius_fit_mm = 0.0;    // with min_radius_is_bound: the free fit's radius under the bound (at least the
+                                     // tube's), min_radius_se_mm of it per FilletRefineParams::bound_log_likelihood_ratio
   // Which model the minimum comes from: "circle" (the centreline's circle windows), "fillet" (line-arc-line on the
   // surface, fillet_fit.hpp), "bound" (a kink's upper bound) or "smooth" (quartic tube, smooth_tube_fit.hpp).
   const char* min_radius_model = "circle";
