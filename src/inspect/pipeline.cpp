@@ -614,16 +614,18 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     if (!ci.found || !ci.bend_ok.value_or(false) || !ci.min_bend_radius_mm || !ci.bend.min_radius_is_bound ||
         !(ci.allowed_bend_radius_mm > 0))
       continue;
-    const double fit_mm = ci.bend.min_radius_fit_mm + params.bound_verdict_se * ci.bend.min_radius_se_mm;
-    const double measured = ci.bend_reference == BendReference::Inner ? fit_mm - 0.5 * ci.diameter_mm : fit_mm;
-    if (measured >= ci.allowed_bend_radius_mm) continue;
+    const bool inner = ci.bend_reference == BendReference::Inner;
+    const double fit_mm = ci.bend.min_radius_fit_mm - (inner ? 0.5 * ci.diameter_mm : 0.0);
+    if (fit_mm + params.bound_verdict_se * ci.bend.min_radius_se_mm >= ci.allowed_bend_radius_mm) continue;
     ci.bend_ok = false;
     char text[400];
     std::snprintf(text, sizeof text,
-                  "%s: a kink too short for its radius to be measured reads at most %.2f mm, but its best fit, %.2f "
-                  "+- %.2f mm, lies under the allowed %.2f mm (%s): the bend fails",
-                  ci.name.c_str(), *ci.min_bend_radius_mm, ci.bend.min_radius_fit_mm, ci.bend.min_radius_se_mm,
-                  ci.allowed_bend_radius_mm, ci.bend_reference == BendReference::Inner ? "inner" : "centreline");
+                  "%s: a kink too short for its radius to be measured: its %s radius is at most %.2f mm, but its "
+                  "best fit, %.2f +- %.2f mm, lies more than %.1f standard errors under the allowed %.2f mm: the bend "
+                  "fails",
+                  ci.name.c_str(), inner ? "inner" : "centreline",
+                  inner ? *ci.min_bend_radius_inner_mm : *ci.min_bend_radius_mm, fit_mm, ci.bend.min_radius_se_mm,
+                  params.bound_verdict_se, ci.allowed_bend_radius_mm);
     res.warnings.emplace_back(text);
   }
   clock.lap("bend");
