@@ -225,11 +225,30 @@ void SurfaceIndex::closest_in_leaves(const Eigen::Vector3d& p, const std::vector
   }
 }
 
-void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
-                                 SurfacePoint* out, std::vector<std::uint32_t>& leaves) const {
+bool SurfaceIndex::settled_on(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& leaves, double best_d2,
+                              const SurfacePoint& best) const {
+  for (std::uint32_t id : leaves) {
+    const Node& nd = nodes_[id];
+    if (nd.element == best.element || box_distance_sq(p, nd.lo, nd.hi) > best_d2) continue;
+    for (std::uint32_t k = nd.first; k < nd.first + nd.count; ++k) {
+      const std::uint32_t t = order_[k];
+      if (static_cast<std::int32_t>(scene_->triangle_element[t]) == best.element) continue;
+      const auto& tri = scene_->triangles[t];
+      const Eigen::Vector3d q = closest_point_on_triangle(p, scene_->vertices[tri[0]].cast<double>(),
+                                                          scene_->vertices[tri[1]].cast<double>(),
+                                                          scene_->vertices[tri[2]].cast<double>());
+      if ((q - p).squaredNorm() <= best_d2) return false;
+    }
+  }
+  return true;
+}
+
+template <class Answer>
+void SurfaceIndex::group_walk(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm, bool by_element,
+                              std::vector<std::uint32_t>& leaves, const Answer& answer) const {
   if (n == 0) return;
   if (nodes_.empty() || !group_leaves(points, n, max_distance_mm, leaves)) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = closest(points[i], max_distance_mm);
+    for (std::size_t i = 0; i < n; ++i) answer(i, closest(points[i], max_distance_mm));
     return;
   }
   // Per point, the same least (squared distance, triangle index) as closest(): the leaves it can reach in
@@ -240,50 +259,27 @@ void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, d
     SurfacePoint best;
     double best_d2 = max_distance_mm * max_distance_mm;
     if (hint != std::numeric_limits<std::uint32_t>::max()) test_triangle(hint, p, best_d2, best);
-    closest_in_leaves(p, leaves, best_d2, best);
-    if (best.element >= 0) {
-      best.distance_mm = std::sqrt(best_d2);
-      hint = best.triangle;
+    // (the hint's element is the answer's unless another element's triangle lies as near)
+    if (!(by_element && best.element >= 0 && settled_on(p, leaves, best_d2, best))) {
+      closest_in_leaves(p, leaves, best_d2, best);
+      if (best.element >= 0) {
+        best.distance_mm = std::sqrt(best_d2);
+        hint = best.triangle;
+      }
     }
-    out[i] = best;
+    answer(i, best);
   }
+}
+
+void SurfaceIndex::closest_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
+                                 SurfacePoint* out, std::vector<std::uint32_t>& leaves) const {
+  group_walk(points, n, max_distance_mm, false, leaves, [&](std::size_t i, const SurfacePoint& s) { out[i] = s; });
 }
 
 void SurfaceIndex::closest_element_group(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
                                          std::int32_t* out, std::vector<std::uint32_t>& leaves) const {
-  if (n == 0) return;
-  if (nodes_.empty() || !group_leaves(points, n, max_distance_mm, leaves)) {
-    for (std::size_t i = 0; i < n; ++i) out[i] = closest(points[i], max_distance_mm).element;
-    return;
-  }
-  std::uint32_t hint = std::numeric_limits<std::uint32_t>::max();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d& p = points[i];
-    SurfacePoint best;
-    double best_d2 = max_distance_mm * max_distance_mm;
-    if (hint != std::numeric_limits<std::uint32_t>::max()) test_triangle(hint, p, best_d2, best);
-    // The answer is the hint's element unless a triangle of another element lies within the hint's distance (a tie
-    // included).
-    bool settled = best.element >= 0;
-    for (std::size_t j = 0; settled && j < leaves.size(); ++j) {
-      const Node& nd = nodes_[leaves[j]];
-      if (nd.element == best.element || box_distance_sq(p, nd.lo, nd.hi) > best_d2) continue;
-      for (std::uint32_t k = nd.first; settled && k < nd.first + nd.count; ++k) {
-        const std::uint32_t t = order_[k];
-        if (static_cast<std::int32_t>(scene_->triangle_element[t]) == best.element) continue;
-        const auto& tri = scene_->triangles[t];
-        const Eigen::Vector3d q = closest_point_on_triangle(p, scene_->vertices[tri[0]].cast<double>(),
-                                                            scene_->vertices[tri[1]].cast<double>(),
-                                                            scene_->vertices[tri[2]].cast<double>());
-        if ((q - p).squaredNorm() <= best_d2) settled = false;
-      }
-    }
-    if (!settled) {
-      closest_in_leaves(p, leaves, best_d2, best);
-      if (best.element >= 0) hint = best.triangle;
-    }
-    out[i] = best.element;
-  }
+  group_walk(points, n, max_distance_mm, true, leaves,
+             [&](std::size_t i, const SurfacePoint& s) { out[i] = s.element; });
 }
 
 SurfacePoint SurfaceIndex::closest_to_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double step_mm,

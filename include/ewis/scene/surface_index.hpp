@@ -44,16 +44,12 @@ class SurfaceIndex {
   template <class PointAt, class Use>
   void closest_each(std::size_t begin, std::size_t end, double max_distance_mm, const PointAt& point_at,
                     const Use& use) const {
-    constexpr std::size_t kRun = 16;
-    Eigen::Vector3d p[kRun];
     SurfacePoint s[kRun];
     std::vector<std::uint32_t> leaves;
-    for (std::size_t i = begin; i < end; i += kRun) {
-      const std::size_t n = std::min(kRun, end - i);
-      for (std::size_t j = 0; j < n; ++j) p[j] = point_at(i + j);
+    in_runs(begin, end, point_at, [&](std::size_t i, const Eigen::Vector3d* p, std::size_t n) {
       closest_group(p, n, max_distance_mm, s, leaves);
       for (std::size_t j = 0; j < n; ++j) use(i + j, p[j], s[j]);
-    }
+    });
   }
   // The element of closest(points[i], max_distance_mm) (-1: nothing within) for each of a few points near one
   // another, into out[i]: what closest_group answers, without the exact closest triangle where every triangle nearer
@@ -65,16 +61,12 @@ class SurfaceIndex {
   template <class PointAt, class Use>
   void closest_element_each(std::size_t begin, std::size_t end, double max_distance_mm, const PointAt& point_at,
                             const Use& use) const {
-    constexpr std::size_t kRun = 16;
-    Eigen::Vector3d p[kRun];
     std::int32_t element[kRun];
     std::vector<std::uint32_t> leaves;
-    for (std::size_t i = begin; i < end; i += kRun) {
-      const std::size_t n = std::min(kRun, end - i);
-      for (std::size_t j = 0; j < n; ++j) p[j] = point_at(i + j);
+    in_runs(begin, end, point_at, [&](std::size_t i, const Eigen::Vector3d* p, std::size_t n) {
       closest_element_group(p, n, max_distance_mm, element, leaves);
       for (std::size_t j = 0; j < n; ++j) use(i + j, element[j]);
-    }
+    });
   }
   // Least distance from the segment [a, b] to the surface, sampled every step_mm along the segment and refined
   // around the best sample (error far below step for smooth surfaces); infinity when beyond max_distance_mm.
@@ -95,6 +87,27 @@ class SurfaceIndex {
   // Node `id` over triangles [first, first + count) of order_; its subtrees take the ids after it (left first).
   void build(std::uint32_t id, std::uint32_t first, std::uint32_t count, const std::vector<Eigen::Vector3f>& centroids,
              int depth);
+  // The points point_at(i) for i in [begin, end) handed to group(first i, points, count) in runs of kRun.
+  static constexpr std::size_t kRun = 16;
+  template <class PointAt, class Group>
+  static void in_runs(std::size_t begin, std::size_t end, const PointAt& point_at, const Group& group) {
+    Eigen::Vector3d p[kRun];
+    for (std::size_t i = begin; i < end; i += kRun) {
+      const std::size_t n = std::min(kRun, end - i);
+      for (std::size_t j = 0; j < n; ++j) p[j] = point_at(i + j);
+      group(i, p, n);
+    }
+  }
+  // closest_group's and closest_element_group's walk: per point the least (squared distance, triangle index) over the
+  // group's leaves, the last point's triangle (the hint) first; with `by_element`, a point no other element's triangle
+  // lies as near to as the hint takes the hint's answer (its element is the closest's; its distance is not set).
+  // answer(i, best) for each point in order.
+  template <class Answer>
+  void group_walk(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm, bool by_element,
+                  std::vector<std::uint32_t>& leaves, const Answer& answer) const;
+  // Whether no triangle of another element than best's lies within best_d2 of p (a tie included) in the leaves.
+  bool settled_on(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& leaves, double best_d2,
+                  const SurfacePoint& best) const;
   // The leaves within max_distance_mm of the box of points[0, n) into `leaves`; false (none listed) when the distance
   // or a point is not finite.
   bool group_leaves(const Eigen::Vector3d* points, std::size_t n, double max_distance_mm,
