@@ -601,20 +601,17 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     std::vector<Cylinder> run_chain;
     for (const SubCable& s : ci.runs[best_run].segments) run_chain.push_back(s.cylinder);
     ci.paper_bend = paper_bend_radius(run_chain, res.optical_axis, ci.nominal_diameter_mm, params.paper_bend);
-    bool ok = true;
-    if (ci.allowed_bend_radius_mm > 0 && ci.min_bend_radius_mm) {
-      const double measured_radius =
-          ci.bend_reference == BendReference::Inner ? *ci.min_bend_radius_inner_mm : *ci.min_bend_radius_mm;
-      ok = measured_radius >= ci.allowed_bend_radius_mm;
-    }
-    ci.bend_ok = ok;
   }, 1);
-  // (InspectParams::bound_verdict_se) in cable order, for the warnings
+  // The bend verdicts, in cable order (for the warnings): the reading against the limit; a bound over it passes only
+  // when its fit + bound_verdict_se standard errors reaches the limit too (InspectParams::bound_verdict_se).
   for (CableInspection& ci : res.cables) {
-    if (!ci.found || !ci.bend_ok.value_or(false) || !ci.min_bend_radius_mm || !ci.bend.min_radius_is_bound ||
-        !(ci.allowed_bend_radius_mm > 0))
-      continue;
+    if (!ci.found) continue;
+    ci.bend_ok = true;
+    if (!(ci.allowed_bend_radius_mm > 0) || !ci.min_bend_radius_mm) continue;
     const bool inner = ci.bend_reference == BendReference::Inner;
+    const double measured_mm = inner ? *ci.min_bend_radius_inner_mm : *ci.min_bend_radius_mm;
+    ci.bend_ok = measured_mm >= ci.allowed_bend_radius_mm;
+    if (!*ci.bend_ok || !ci.bend.min_radius_is_bound) continue;
     const double fit_mm = ci.bend.min_radius_fit_mm - (inner ? 0.5 * ci.diameter_mm : 0.0);
     if (fit_mm + params.bound_verdict_se * ci.bend.min_radius_se_mm >= ci.allowed_bend_radius_mm) continue;
     ci.bend_ok = false;
@@ -623,8 +620,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
                   "%s: a kink too short for its radius to be measured: its %s radius is at most %.2f mm, but its "
                   "best fit, %.2f +- %.2f mm, lies more than %.1f standard errors under the allowed %.2f mm: the bend "
                   "fails",
-                  ci.name.c_str(), inner ? "inner" : "centreline",
-                  inner ? *ci.min_bend_radius_inner_mm : *ci.min_bend_radius_mm, fit_mm, ci.bend.min_radius_se_mm,
+                  ci.name.c_str(), inner ? "inner" : "centreline", measured_mm, fit_mm, ci.bend.min_radius_se_mm,
                   params.bound_verdict_se, ci.allowed_bend_radius_mm);
     res.warnings.emplace_back(text);
   }
