@@ -148,9 +148,13 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   res.registration_converged = reg.registration.converged;
   res.registration_global = reg.used_global;
   if (reg.free_space.seen > 0) res.registration_in_front_fraction = reg.free_space.fraction();
-  if (reg.registration.fitness < params.doubtful_fitness ||
-      (reg.registration.fitness < params.registration.trusted_fitness &&
-       reg.free_space.fraction() > params.registration.trusted_in_front_fraction)) {
+  // A background the CAD lacks lowers a right pose's fitness; inside the CAD's box it fits (ScanToCadParams::box_*).
+  const bool background_explains = reg.box_fitness >= params.registration.box_trusted_fitness &&
+                                   reg.free_space.fraction() <= params.registration.box_trusted_in_front_fraction;
+  if (!background_explains &&
+      (reg.registration.fitness < params.doubtful_fitness ||
+       (reg.registration.fitness < params.registration.trusted_fitness &&
+        reg.free_space.fraction() > params.registration.trusted_in_front_fraction))) {
     char text[256];
     std::snprintf(text, sizeof text,
                   "the registration is doubtful (fitness %.2f, %ld %% of the CAD's faces toward the sensor lie in front "

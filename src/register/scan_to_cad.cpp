@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "ewis/core/error.hpp"
@@ -34,6 +35,42 @@ struct Run {
   double box_fitness = 0.0;  // over the points the pose maps into the CAD's box; 0: not measured (see refine)
   bool beaten = false;       // stopped after its coarse pass: it could not win (see refine's beaten_below)
 };
+
+// The whole scan a subsample was drawn from, with its k-d tree built on first use (ScanToCadParams::box_surface_only):
+// which of the subsample's points lie on the scan's surfaces.
+struct ScanSurfaces {
+  const std::vector<Eigen::Vector3f>* all = nullptr;
+  std::unique_ptr<KdTree> tree;
+};
+
+// The fitness over the points of `inside` (subsample indices) on the scan's surfaces: a point's 4th nearest neighbour
+// in the whole scan within spacing_factor x the median of that distance over `inside` (the point itself, in the
+// scan too, is its own nearest). -1: not measurable (too few points).
+double fitness_on_surfaces(const std::vector<Eigen::Vector3f>& scan, const std::vector<std::uint32_t>& inside,
+                           ScanSurfaces& surfaces, const Cloud& target, const KdTree& target_tree, const Pose& pose,
+                           double inlier_distance_mm, double spacing_factor) {
+  constexpr int kNeighbours = 5;  // itself and 4 others
+  if (!surfaces.all || surfaces.all->size() < kNeighbours || inside.empty()) return -1.0;
+  if (!surfaces.tree) surfaces.tree = std::make_unique<KdTree>(*surfaces.all);
+  const KdTree& tree = *surfaces.tree;
+  std::vector<float> spacing(inside.size());
+  parallel_blocks(inside.size(), 1024, [&](std::size_t begin, std::size_t end) {
+    std::vector<Neighbor> nn;
+    for (std::size_t j = begin; j < end; ++j) {
+      tree.knn(scan[inside[j]], kNeighbours, nn);
+      spacing[j] = nn.size() == kNeighbours ? std::sqrt(nn.back().distance_sq) : std::numeric_limits<float>::infinity();
+    }
+  });
+  std::vector<float> sorted = spacing;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  const double limit = spacing_factor * sorted[sorted.size() / 2];
+  std::vector<std::uint32_t> on;
+  on.reserve(inside.size());
+  for (std::size_t j = 0; j < inside.size(); ++j)
+    if (spacing[j] <= limit) on.push_back(inside[j]);
+  if (on.empty()) return -1.0;
+  return evaluate_registration(scan, target, target_tree, pose, inlier_distance_mm, on).fitness;
+}
 
 // How well the scan supports a pose: its fitness, discounted by the fraction of the CAD's seen faces it puts in
 // front of what the sensor measured (free_space.hpp). Soft, not a veto: a part of the CAD missing from the
@@ -115,7 +152,8 @@ constexpr double kZoneGrowCapMm = 20.0;
 // (0: not grown; see below).
 Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
            double expected_error_mm, const ScanToCadParams& params, const ProgressFn& progress,
-           const RangeBins* bins, double beaten_below = 0.0, double grow_cap_mm = kZoneGrowCapMm) {
+           const RangeBins* bins, double beaten_below = 0.0, double grow_cap_mm = kZoneGrowCapMm,
+           ScanSurfaces* surfaces = nullptr) {
   IcpParams icp = params.icp;
   const double final_d = final_distance_mm(icp, target);
   icp.final_max_distance_mm = final_d;
@@ -192,6 +230,11 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
       run.box_fitness = evaluate_registration(scan, *view.cloud, *view.tree, run.reg.source_to_target,
                                               run.reg.inlier_distance_mm, inside)
                             .fitness;
+    if (surfaces && params.box_surface_only && run.box_fitness < params.box_trusted_fitness) {
+      const double on = fitness_on_surfaces(scan, inside, *surfaces, *view.cloud, *view.tree, run.reg.source_to_target,
+                                            run.reg.inlier_distance_mm, params.box_surface_spacing_factor);
+      if (on >= 0.0) run.box_fitness = on;
+    }
   }
   if (bins) run.free_space = count_in_front(*bins, *view.cloud, run.reg.source_to_target, params.in_front_margin_mm);
   return run;
@@ -221,8 +264,10 @@ std::vector<Eigen::Vector3f> without_background(const std::vector<Eigen::Vector3
 // `scan_per_point`: scan points each subsample point stands for (to report counts for the whole scan).
 ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, double scan_per_point,
                                    const CadTarget& target, const std::optional<Pose>& initial_scan_to_cad,
-                                   const ScanToCadParams& params, const ProgressFn& progress, const RangeBins* bins) {
+                                   const ScanToCadParams& params, const ProgressFn& progress, const RangeBins* bins,
+                                   const std::vector<Eigen::Vector3f>* all) {
   ScanToCadResult res;
+  ScanSurfaces surfaces{all, nullptr};  // for the local results' box fitness
   bool have = false;
   // The higher support wins.
   auto consider = [&](const Run& r, bool global) {
@@ -232,6 +277,7 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
       res.excluded_near_cables = r.excluded;
       res.used_global = global;
       res.free_space = r.free_space;
+      res.box_fitness = r.box_fitness;
       have = true;
     }
   };
@@ -249,13 +295,14 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   };
   bool ok = false;
   if (initial_scan_to_cad) {
-    const Run local = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins);
+    const Run local = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins,
+                             0.0, kZoneGrowCapMm, &surfaces);
     consider(local, false);
     ok = fits_as_initial(local);
     // (ScanToCadParams::local_retry_grown_full)
     if (!ok && params.local_retry_grown_full && params.icp.expected_error_mm > kZoneGrowCapMm) {
       const Run wide = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins,
-                              support(res.registration, res.free_space), params.icp.expected_error_mm);
+                              support(res.registration, res.free_space), params.icp.expected_error_mm, &surfaces);
       if (!wide.beaten && support(wide.reg, wide.free_space) > support(res.registration, res.free_space)) {
         consider(wide, false);
         ok = fits_as_initial(wide);
@@ -356,7 +403,7 @@ ScanToCadResult register_points(const std::vector<Eigen::Vector3f>& all, const C
   const std::vector<Eigen::Vector3f> sub = pick(all, evenly_strided(all.size(), params.max_scan_points));
   const double per_point = static_cast<double>(all.size()) / static_cast<double>(sub.size());
   if (!params.icp.use_source_viewpoint)
-    return register_subsample(sub, per_point, target, initial_scan_to_cad, params, progress, nullptr);
+    return register_subsample(sub, per_point, target, initial_scan_to_cad, params, progress, nullptr, &all);
 
   // In the sensor's frame: without the veils of mixed pixels (unless nearly everything looks like one: then
   // the scan is not in its sensor's frame after all, and the retry below uses every point).
@@ -366,12 +413,13 @@ ScanToCadResult register_points(const std::vector<Eigen::Vector3f>& all, const C
     if (off.size() >= sub.size() / 2) clean = pick(sub, off);
   }
   const std::vector<Eigen::Vector3f>& used = clean.empty() ? sub : clean;
-  ScanToCadResult res = register_subsample(used, per_point, target, initial_scan_to_cad, params, progress, bins);
+  ScanToCadResult res = register_subsample(used, per_point, target, initial_scan_to_cad, params, progress, bins, &all);
   if (!res.valid) {
     // The scan may not be in its sensor's frame after all: retry once without visibility culling or veils.
     ScanToCadParams plain = params;
     plain.icp.use_source_viewpoint = false;
-    ScanToCadResult retry = register_subsample(sub, per_point, target, initial_scan_to_cad, plain, progress, bins);
+    ScanToCadResult retry =
+        register_subsample(sub, per_point, target, initial_scan_to_cad, plain, progress, bins, &all);
     const bool better = retry.registration.fitness > res.registration.fitness;
     if ((retry.valid && !res.valid) || (retry.valid == res.valid && better)) res = retry;
   }

@@ -84,6 +84,8 @@ struct InspectParams {
   // sets: fitness 0.945-0.998, at most 1.2 % in front; side views of `ewis plan`'s covering sets
   // (bench/planned_views.py): 0.88-0.98 right, the pose left 110 mm off 0.54 with 27 % in front; poses slid along a
   // symmetry: 0.83-0.89 with 6-17 % in front. A scan lacking a pipe of its CAD: 1.00 with 19 % (no warning).
+  // Not where a background the CAD lacks explains the fitness (the registration's box rule, ScanToCadParams::box_*):
+  // the second scanner with a floor, 6 boxes and 45 % outliers put right poses at 0.61-0.68.
   double doubtful_fitness = 0.7;
   // Touching cables are traced again, each without the points nearer the other's fitted surface, when their
   // first chains come within both radii + untangle_margin_mm (pipeline.cpp, "Touching cables").
