@@ -299,6 +299,16 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
                              0.0, kZoneGrowCapMm, &surfaces);
     consider(local, false);
     ok = fits_as_initial(local);
+    // (ScanToCadParams::local_retry_near_mm): kept only under the box rule's bound on the CAD in front
+    if (!ok && params.local_retry_near_mm > 0.0 && params.icp.expected_error_mm > params.local_retry_near_mm) {
+      const Run near = refine(scan, target, *initial_scan_to_cad, params.local_retry_near_mm, params, progress, bins,
+                              0.0, kZoneGrowCapMm, &surfaces);
+      if (fits_as_initial(near) && near.free_space.fraction() <= params.box_trusted_in_front_fraction &&
+          support(near.reg, near.free_space) > support(res.registration, res.free_space)) {
+        consider(near, false);
+        ok = true;
+      }
+    }
     // (ScanToCadParams::local_retry_grown_full)
     if (!ok && params.local_retry_grown_full && params.icp.expected_error_mm > kZoneGrowCapMm) {
       const Run wide = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress, bins,

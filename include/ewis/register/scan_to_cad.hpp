@@ -60,6 +60,14 @@ struct ScanToCadParams {
   // and, from a start 30 mm off, lie outside 20 mm zones: the coarse pass matched them onto the plate and
   // connectors (bench/planned_views.py, seed 1357: 6 of 40 side views 80-130 mm off, fitness 0.45-0.57).
   bool local_retry_grown_full = true;
+  // Before that, an untrusted result from the initial pose is refined again as if the pose were at most this far off
+  // (mm; the coarse pass then reaches 3 x as far instead of 3 x icp.expected_error_mm; 0: not tried). Boxes beside
+  // the CAD inside the crop's margin (the second scanner's clutter level with the plate) pulled the 180 mm
+  // correspondences of starts 2-3 deg and 2-12 mm off by 1.5 deg to 260 mm (1 scene in 30 of two fresh sets; the
+  // global search found the pose, 10 s a scene). Kept only when trusted with at most box_trusted_in_front_fraction of
+  // the CAD in front and the higher support: a near retry slid 36.8 mm along a plate scored fitness 0.96 with 5.0 %
+  // in front, which trusted_in_front_fraction alone would let pass (the grown retry then finds the pose).
+  double local_retry_near_mm = 20.0;
   // After each fine pass: the fitness probed along the weakest direction of translation (weak_direction.hpp).
   WeakDirectionParams weak_direction;
   // Speed: every step runs on an evenly strided subsample of the scan of at most this many points (0: all).
