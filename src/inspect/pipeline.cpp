@@ -148,10 +148,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   res.registration_converged = reg.registration.converged;
   res.registration_global = reg.used_global;
   if (reg.free_space.seen > 0) res.registration_in_front_fraction = reg.free_space.fraction();
-  // A background the CAD lacks lowers a right pose's fitness; inside the CAD's box it fits (ScanToCadParams::box_*).
-  const bool background_explains = reg.box_fitness >= params.registration.box_trusted_fitness &&
-                                   reg.free_space.fraction() <= params.registration.box_trusted_in_front_fraction;
-  if (!background_explains &&
+  if (!background_explains_fitness(reg.box_fitness, reg.free_space.fraction(), params.registration) &&
       (reg.registration.fitness < params.doubtful_fitness ||
        (reg.registration.fitness < params.registration.trusted_fitness &&
         reg.free_space.fraction() > params.registration.trusted_in_front_fraction))) {

@@ -288,8 +288,8 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
   // (ScanToCadParams::box_*).
   auto fits_as_initial = [&](const Run& r) {
     const double in_front = r.free_space.fraction();
-    const bool fits = r.reg.fitness >= params.trusted_fitness ||
-                      (r.box_fitness >= params.box_trusted_fitness && in_front <= params.box_trusted_in_front_fraction);
+    const bool fits =
+        r.reg.fitness >= params.trusted_fitness || background_explains_fitness(r.box_fitness, in_front, params);
     return r.reg.inliers > 0 && r.reg.fitness >= params.min_fitness && fits &&
            in_front <= params.trusted_in_front_fraction;
   };
@@ -437,6 +437,10 @@ ScanToCadResult register_points(const std::vector<Eigen::Vector3f>& all, const C
 }
 
 }  // namespace
+
+bool background_explains_fitness(double box_fitness, double in_front_fraction, const ScanToCadParams& params) {
+  return box_fitness >= params.box_trusted_fitness && in_front_fraction <= params.box_trusted_in_front_fraction;
+}
 
 ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
                                      const std::optional<Pose>& initial_scan_to_cad, const ScanToCadParams& params,

@@ -144,6 +144,33 @@ TEST(ScanToCad, BackgroundBeyondTheCadIsLeftOut) {
   }
 }
 
+// The plate scene on a floor 40 mm under it (25 mm around the plate) with two boxes beside it: a background just
+// beyond the CAD, inside the crop's margin.
+Scene scene_on_a_floor() {
+  using V = Eigen::Vector3d;
+  Scene as_built = test::make_scene();
+  test::add_mesh(as_built, "floor", make_box(V(-25, -25, -45), V(425, 325, -40)));
+  test::add_mesh(as_built, "box_1", make_box(V(410, 100, -40), V(440, 180, 50)));
+  test::add_mesh(as_built, "box_2", make_box(V(-40, 200, -40), V(-12, 260, 35)));
+  return as_built;
+}
+
+// The virtual sensor's 640 x 512 scan of `as_built` from `camera_to_scene` (its 40 % outliers included).
+Cloud raw_scan(const Scene& as_built, const Pose& camera_to_scene, std::uint64_t seed) {
+  const Raycaster caster(as_built);
+  Camera camera;
+  camera.width_px = 640;
+  camera.height_px = 512;
+  sim::SensorParams sp;
+  sp.seed = seed;
+  return sim::scan(caster, camera, camera_to_scene, sp).cloud;
+}
+
+// The inspection's first step: radius outlier removal with its derived parameters.
+Cloud without_outliers(const Cloud& raw) {
+  return select(raw, remove_radius_outliers(KdTree(raw.points), RadiusOutlierParams{}).kept);
+}
+
 // A background just beyond the CAD, inside the crop's margin (a floor 40 mm under the plate, boxes beside it), scanned
 // by the virtual sensor (occlusions, 40 % outliers, then the radius outlier removal; without the background the
 // fitness is 0.99): the local result's fitness falls under trusted_fitness (0.76), but over the points it maps into
@@ -152,22 +179,10 @@ TEST(ScanToCad, BackgroundBeyondTheCadIsLeftOut) {
 // instead of 0.5). Without that rule the global search runs, and the local pose still wins.
 TEST(ScanToCad, ABackgroundJustBeyondTheCadCallsNoGlobalSearch) {
   using V = Eigen::Vector3d;
-  Scene as_built = test::make_scene();
-  test::add_mesh(as_built, "floor", make_box(V(-25, -25, -45), V(425, 325, -40)));  // 25 mm around the plate
-  test::add_mesh(as_built, "box_1", make_box(V(410, 100, -40), V(440, 180, 50)));
-  test::add_mesh(as_built, "box_2", make_box(V(-40, 200, -40), V(-12, 260, 35)));
-  const Raycaster caster(as_built);
-  Camera camera;
-  camera.width_px = 640;
-  camera.height_px = 512;
   const std::uint64_t seed = 41;
   // obliquely, as a robot's sensor looks at an assembly (straight down, the blocks' sides are not seen)
   const Pose cam = look_at(V(-40, -120, 480), V(200, 150, 0), V::UnitZ());
-  sim::SensorParams sp;
-  sp.seed = seed;
-  // the inspection's first step: radius outlier removal with its derived parameters
-  const Cloud raw = sim::scan(caster, camera, cam, sp).cloud;
-  const Cloud scan = select(raw, remove_radius_outliers(KdTree(raw.points), RadiusOutlierParams{}).kept);
+  const Cloud scan = without_outliers(raw_scan(scene_on_a_floor(), cam, seed));
   const Pose init = off_at_scene(cam, seed, 3.0, 20.0);
   for (const bool box_rule : {true, false}) {
     ScanToCadParams params;
@@ -201,19 +216,9 @@ TEST(ScanToCad, ABackgroundJustBeyondTheCadCallsNoGlobalSearch) {
 // scan's surfaces (ScanToCadParams::box_surface_only) it fits as before.
 TEST(ScanToCad, OutliersNearTheSurfacesCallNoGlobalSearch) {
   using V = Eigen::Vector3d;
-  Scene as_built = test::make_scene();
-  test::add_mesh(as_built, "floor", make_box(V(-25, -25, -45), V(425, 325, -40)));
-  test::add_mesh(as_built, "box_1", make_box(V(410, 100, -40), V(440, 180, 50)));
-  test::add_mesh(as_built, "box_2", make_box(V(-40, 200, -40), V(-12, 260, 35)));
-  const Raycaster caster(as_built);
-  Camera camera;
-  camera.width_px = 640;
-  camera.height_px = 512;
   const std::uint64_t seed = 41;
   const Pose cam = look_at(V(-40, -120, 480), V(200, 150, 0), V::UnitZ());
-  sim::SensorParams sp;
-  sp.seed = seed;
-  Cloud raw = sim::scan(caster, camera, cam, sp).cloud;
+  Cloud raw = raw_scan(scene_on_a_floor(), cam, seed);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<float> depth_mm(3.0f, 4.5f);
   const std::size_t pixels = raw.points.size();
@@ -222,7 +227,7 @@ TEST(ScanToCad, OutliersNearTheSurfacesCallNoGlobalSearch) {
     const float off = (rng() & 1) ? depth_mm(rng) : -depth_mm(rng);
     raw.points.push_back(p + off * p.normalized());
   }
-  const Cloud scan = select(raw, remove_radius_outliers(KdTree(raw.points), RadiusOutlierParams{}).kept);
+  const Cloud scan = without_outliers(raw);
   const Pose init = off_at_scene(cam, seed, 3.0, 20.0);
   for (const bool on_surfaces : {true, false}) {
     ScanToCadParams params;
@@ -258,16 +263,9 @@ TEST(ScanToCad, ClutterBesideTheCadIsOutreachedFromANearStart) {
   test::add_mesh(as_built, "box_2", make_box(V(100, 320, -5), V(260, 400, 140)));
   test::add_mesh(as_built, "box_3", make_box(V(-110, 60, -5), V(-25, 250, 100)));
   test::add_mesh(as_built, "box_4", make_box(V(150, -120, -5), V(330, -20, 90)));
-  const Raycaster caster(as_built);
-  Camera camera;
-  camera.width_px = 640;
-  camera.height_px = 512;
   for (const std::uint64_t seed : {44, 46}) {
     const Pose cam = look_at(V(-40 + 10.0 * (seed % 5), -120, 520), V(200, 150, 0), V::UnitZ());
-    sim::SensorParams sp;
-    sp.seed = seed;
-    const Cloud raw = sim::scan(caster, camera, cam, sp).cloud;
-    const Cloud scan = select(raw, remove_radius_outliers(KdTree(raw.points), RadiusOutlierParams{}).kept);
+    const Cloud scan = without_outliers(raw_scan(as_built, cam, seed));
     const Pose init = off_at_scene(cam, seed, 3.0, 12.0);
     for (const double near_mm : {20.0, 0.0}) {
       ScanToCadParams params;

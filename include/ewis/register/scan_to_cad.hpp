@@ -119,6 +119,11 @@ struct ScanToCadResult {
   double box_fitness = 0.0;
 };
 
+// The box rule (ScanToCadParams::box_*): a background the CAD lacks explains a fitness under trusted_fitness, since
+// inside the CAD's box the pose fits (`box_fitness`) and puts at most box_trusted_in_front_fraction of the CAD in
+// front of the scan.
+bool background_explains_fitness(double box_fitness, double in_front_fraction, const ScanToCadParams& params);
+
 // `scan` in scan coordinates (mm, already filtered). Deterministic for any thread count.
 ScanToCadResult register_scan_to_cad(const Cloud& scan, const CadTarget& target,
                                      const std::optional<Pose>& initial_scan_to_cad,
