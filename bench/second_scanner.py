@@ -11,14 +11,19 @@ as-built scenes differently, in numpy only:
   - mixed pixels at depth edges (a depth between the near and the far surface);
   - outliers: half uniform in the view frustum, half a wrong depth (3-40 mm off) along a seen pixel's ray;
   - optionally a floor and boxes around the scene that the CAD does not have (clutter the registration must
-    ignore).
+    ignore);
+  - optionally depth noise along the rays correlated over neighbouring pixels (a stereo matcher's window makes
+    its errors smooth over a few pixels, which independent noise does not model), and dropouts: pixels that
+    return nothing, more often at glancing incidence, and holes (blobs of a few pixels) where the pattern is
+    lost.
 Each scene of the campaign keeps its scene.obj, plan.json, pose.txt and truth.json (the camera pose is the
 same, so the truth holds); only scan.ply is new. Evaluate the result with `ewis evaluate --campaign OUT`.
 
 Usage:
   second_scanner.py --ewis build/bin/ewis --campaign C --seed S --out OUT [--first I --last J]
                     [--sigma-mm 0.15] [--outliers 0.4] [--focal-px 1150] [--width 1280] [--height 1024]
-                    [--mixed 0.5] [--floor-z Z] [--clutter N]
+                    [--mixed 0.5] [--floor-z Z] [--clutter N] [--ray-sigma-mm S --ray-corr-px R]
+                    [--dropout D] [--holes H]
 `--seed` must be the seed the campaign C was simulated with: the as-built meshes are made again with
 `ewis simulate --scene-only` into OUT_asbuilt (a campaign does not keep them) and checked against C's truth.
 """
@@ -82,6 +87,18 @@ def add_clutter(verts, faces, count, base_z, rng):
     return np.concatenate(vs), np.concatenate(fs)
 
 
+def smooth_field(shape, sigma_px, rng):
+    """Unit-variance Gaussian noise over an image, correlated over a Gaussian of sigma_px pixels (FFT)."""
+    w = rng.normal(size=shape)
+    if sigma_px <= 0:
+        return w
+    fy = np.fft.fftfreq(shape[0])[:, None]
+    fx = np.fft.rfftfreq(shape[1])[None, :]
+    g = np.exp(-2.0 * (np.pi * sigma_px) ** 2 * (fx ** 2 + fy ** 2))
+    f = np.fft.irfft2(np.fft.rfft2(w) * g, s=shape)
+    return f / f.std()
+
+
 def scan(verts, faces, camera_to_cad, a, rng):
     """Points (camera frame, mm) of one scan; returns (points, surface count, mixed count)."""
     cad_to_cam = np.linalg.inv(camera_to_cad)
@@ -139,7 +156,12 @@ def scan(verts, faces, camera_to_cad, a, rng):
     dn = d / np.linalg.norm(d, axis=1)[:, None]
     incidence = np.degrees(np.arccos(np.clip(np.abs((nrm * dn).sum(1)), 0, 1)))
     keep = (incidence <= a.max_incidence_deg) & (t > 0)
-    pts, pix = pts[keep], pix[keep]
+    if a.dropout > 0:  # a pixel returns less often the more glancing its surface: dropout x (incidence / max)^2
+        keep &= rng.random(len(pix)) >= a.dropout * (incidence / a.max_incidence_deg) ** 2
+    if a.holes > 0:  # blobs of ~4 px where the pattern is lost, covering `holes` of the image
+        field = smooth_field((a.height, a.width), 2.0, rng).reshape(-1)
+        keep &= field[pix] < np.quantile(field, 1.0 - a.holes)
+    pts, pix, dn = pts[keep], pix[keep], dn[keep]
     # mixed pixels: a pixel whose 4-neighbour is over 8 mm deeper may read a depth in between
     depth = np.full(a.width * a.height, np.nan)
     depth[pix] = pts[:, 2]
@@ -152,6 +174,9 @@ def scan(verts, faces, camera_to_cad, a, rng):
     frac = rng.random(edge.sum())
     pts[edge] *= (1 + frac * (far[edge] / pts[edge, 2] - 1))[:, None]
     pts = pts + rng.normal(0, a.sigma_mm, pts.shape)
+    if a.ray_sigma_mm > 0:  # depth noise along the rays, correlated over ray_corr_px pixels
+        field = smooth_field((a.height, a.width), a.ray_corr_px, rng).reshape(-1)
+        pts += dn * (a.ray_sigma_mm * field[pix])[:, None]
     # outliers
     n_out = int(round(a.outliers / (1 - a.outliers) * len(pts)))
     zmin, zmax = pts[:, 2].min() - 50, pts[:, 2].max() + 50
@@ -191,6 +216,12 @@ def main():
     ap.add_argument('--floor-z', type=float, default=None, help='a floor at this CAD z, not in the CAD')
     ap.add_argument('--clutter', type=int, default=0,
                     help='boxes around the scene, not in the CAD (standing on the floor, or level with the CAD\'s base)')
+    ap.add_argument('--ray-sigma-mm', type=float, default=0.0,
+                    help='depth noise along the rays (mm), correlated over --ray-corr-px pixels')
+    ap.add_argument('--ray-corr-px', type=float, default=0.0, help='correlation length of that noise (Gaussian sigma, px)')
+    ap.add_argument('--dropout', type=float, default=0.0,
+                    help='chance a pixel at the largest incidence returns nothing (scaled by (incidence / max)^2)')
+    ap.add_argument('--holes', type=float, default=0.0, help='fraction of the image lost in blobs of a few pixels')
     a = ap.parse_args()
     scenes = sorted(d for d in os.listdir(a.campaign) if d.startswith('scene_'))
     last = len(scenes) - 1 if a.last < 0 else min(a.last, len(scenes) - 1)

@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "ewis/filter/noise_correlation.hpp"
 #include "ewis/filter/resolution.hpp"
 #include "ewis/register/sensor_origin.hpp"
 #include "ewis/io/cloud_io.hpp"
@@ -36,7 +37,13 @@ Command add_info(CLI::App& root, CommonOptions& common) {
     }
     if (file.cloud.size() >= 2) {
       const KdTree tree(file.cloud.points);
-      out["resolution_mm"] = spatial_resolution(tree).mean_mm;
+      const ResolutionResult resolution = spatial_resolution(tree);
+      out["resolution_mm"] = resolution.mean_mm;
+      // How much neighbouring points' noise moves together (filter/noise_correlation.hpp): 1 for independent noise.
+      const NoiseCorrelation nc = estimate_noise_correlation(tree, resolution.median_mm);
+      out["noise_sigma_mm"] = nc.sigma_mm > 0.0 ? nlohmann::json(nc.sigma_mm) : nlohmann::json(nullptr);
+      out["noise_inflation"] = nc.inflation;
+      out["noise_patches"] = nc.patches;
     } else {
       out["resolution_mm"] = nullptr;
     }

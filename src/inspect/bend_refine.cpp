@@ -560,7 +560,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     FilletFitParams held = params.fit;
     held.fit_bend_radius = false;
     const double c = params.fit.kernel_factor * std::max(f.sigma_mm, params.fit.min_noise_mm);
-    const double sigma2 = std::max(f.sigma_mm * f.sigma_mm, 1e-12);
+    const double sigma2 = std::max(f.sigma_mm * f.sigma_mm * f.noise_inflation, 1e-12);
     const std::vector<double>* sc = scales.empty() ? nullptr : &scales;
     const double best_cost = fillet_robust_cost(pts, f.model, c, sc);
     // 2 x the robust cost's rise over the free fit's, held at radius r: a likelihood ratio (chi-square, 1 dof).
@@ -681,7 +681,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
           std::abs(wide.peak_tau) <= 0.8 * params.smooth_fit.peak_fraction) {
         const std::vector<Eigen::Vector3d> narrow_over = over_chord(pts, sf.model);
         const double cn = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
-        const double s2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
+        const double s2 = std::max(sf.sigma_mm * sf.sigma_mm * sf.noise_inflation, 1e-12);
         const double lack = 2.0 * (smooth_tube_robust_cost(narrow_over, wide.model, cn) -
                                    smooth_tube_robust_cost(narrow_over, sf.model, cn)) / s2;
         const double sn = sf.bend_radius_se_mm, sw = wide.bend_radius_se_mm;
@@ -709,7 +709,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
                                o.fit.model.tube_radius_mm > 0;
     const FilletModel& start = fillet_shaped ? o.fit.model : *o.init;
     const double c = params.fit.kernel_factor * std::max(sf.sigma_mm, params.fit.min_noise_mm);
-    const double sigma2 = std::max(sf.sigma_mm * sf.sigma_mm, 1e-12);
+    const double sigma2 = std::max(sf.sigma_mm * sf.sigma_mm * sf.noise_inflation, 1e-12);
     const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);
     // The fillet over the narrower window where it reads clearly tighter (see FilletRefineParams::narrow_min_z).
     std::optional<FilletFit> rival_early;
@@ -838,7 +838,8 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         if (2 * shared.size() < o.pts.size()) continue;
         const std::vector<double>* sc = shared_scales.empty() ? nullptr : &shared_scales;
         const double ratio =
-            2.0 * (fillet_robust_cost(shared, m, c, sc) - fillet_robust_cost(shared, o.fit.model, c, sc)) / sigma2;
+            2.0 * (fillet_robust_cost(shared, m, c, sc) - fillet_robust_cost(shared, o.fit.model, c, sc)) /
+            (sigma2 * o.fit.noise_inflation);
         o.explained = ratio < params.explained_min_log_likelihood_ratio;
       }
     }, 1);
@@ -897,7 +898,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         FilletFitParams held = params.fit;
         held.fit_bend_radius = false;
         const double c = params.fit.kernel_factor * std::max(l.fit.sigma_mm, params.fit.min_noise_mm);
-        const double sigma2 = std::max(l.fit.sigma_mm * l.fit.sigma_mm, 1e-12);
+        const double sigma2 = std::max(l.fit.sigma_mm * l.fit.sigma_mm * l.fit.noise_inflation, 1e-12);
         const auto cost_at = [&](double r) {
           FilletModel start = m;
           start.bend_radius_mm = r;

@@ -472,13 +472,31 @@ FilletFit fit_fillet_n(const std::vector<Eigen::Vector3d>& surface_points, const
   const Eigen::SelfAdjointEigenSolver<Mat> eigen(H);
   const double top = eigen.eigenvalues()[kParams - 1];
   double var = 0;
+  Vec row7 = Vec::Zero();  // the pseudo-inverse's row of the log radius
   for (int k = 0; k < kParams; ++k) {
     const double ev = eigen.eigenvalues()[k], along = eigen.eigenvectors()(7, k);
-    if (ev > 1e-10 * top) var += along * along / ev;
-    else if (std::abs(along) > 1e-3) var = std::numeric_limits<double>::infinity();
+    if (ev > 1e-10 * top) {
+      var += along * along / ev;
+      row7 += eigen.eigenvectors().col(k) * (along / ev);
+    } else if (std::abs(along) > 1e-3) {
+      var = std::numeric_limits<double>::infinity();
+    }
+  }
+  // Noise that neighbouring points share (FilletFitParams::noise): each point's influence on the log radius,
+  // w_i J_i . row7, and the variance of their sum under the scan's correlation over what independent noise gives.
+  // A radius the data do not fix (a kink collapsing) takes the inflation of a mean, the largest for noise smoothed
+  // over neighbours: its likelihood ratios must not count the correlated points as independent.
+  if (params.noise && params.fit_bend_radius) {
+    out.noise_inflation = std::max(1.0, params.noise->inflation);
+    if (std::isfinite(var) && var > 0) {
+      const double c = params.kernel_factor * sigma;
+      std::vector<double> influence(n);
+      for (std::size_t i = 0; i < n; ++i) influence[i] = cauchy_weight(res[i], c) * J.row(i).dot(row7);
+      out.noise_inflation = correlated_inflation(pts, influence, *params.noise);
+    }
   }
   // log-radius parameter: se(R) = R se(log R)
-  var *= out.rms_mm * out.rms_mm;
+  var *= out.rms_mm * out.rms_mm * out.noise_inflation;
   out.bend_radius_se_mm = std::isfinite(var) && var >= 0 && top > 0 ? model.bend_radius_mm * std::sqrt(var)
                                                                     : std::numeric_limits<double>::infinity();
   out.ok = converged && std::isfinite(model.bend_radius_mm) && model.turn_rad() > 1e-3 && model.tube_radius_mm > 0;

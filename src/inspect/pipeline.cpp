@@ -178,6 +178,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   const Cloud& cloud = res.cloud;
   res.resolution_mm = spatial_resolution(tree, 200000).median_mm;
   if (!(res.resolution_mm > 0)) res.resolution_mm = 0.5;
+  if (params.min_noise_inflation > 0.0)
+    res.noise = estimate_noise_correlation(tree, res.resolution_mm, params.noise_correlation);
 
   // Which elements are cables (flexible) and which are rigid (everything the plan does not call a cable).
   std::vector<bool> is_cable(scene.elements.size(), false);
@@ -548,6 +550,11 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       if (!clump_free.empty()) fs.usable = &clump_free;
     }
     const auto kept = [&](std::uint32_t i) { return clump_free.empty() || clump_free[i]; };
+    FilletRefineParams fillet_params = params.fillet;
+    if (params.min_noise_inflation > 0.0 && res.noise.inflation >= params.min_noise_inflation) {
+      fillet_params.fit.noise = &res.noise;
+      fillet_params.smooth_fit.noise = &res.noise;
+    }
     for (std::size_t k = 0; k < ci.runs.size(); ++k) {
       BendRadiusResult b = measure_bend_radius(ci.runs[k].centerline, ci.nominal_diameter_mm, params.bend);
       // Tight bends again, on the run's surface points (a short arc is a corner to any centreline window).
@@ -556,7 +563,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       for (std::uint32_t i : ci.runs[k].points)
         if (kept(i)) surface.push_back(cloud.points[i].cast<double>());
       refine_bends_with_fillets(b, ci.runs[k].centerline, surface, ci.runs[k].radius_mm, ci.nominal_diameter_mm,
-                                params.fillet, fs);
+                                fillet_params, fs);
       const bool better = k == 0 || (b.min_radius_mm && (!ci.bend.min_radius_mm || *b.min_radius_mm < *ci.bend.min_radius_mm));
       if (better) {
         ci.bend = std::move(b);
@@ -585,7 +592,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       surface.reserve(j.points.size());
       for (std::uint32_t i : j.points)
         if (join_usable.empty() ? kept(i) : join_usable[i]) surface.push_back(cloud.points[i].cast<double>());
-      FilletRefineParams across = params.fillet;
+      FilletRefineParams across = fillet_params;
       across.leg_drift_inside = params.joins.fillet_leg_drift_inside;
       refine_bends_with_fillets(b, j.centerline, surface, j.radius_mm, ci.nominal_diameter_mm, across, join_scan);
       if (!b.min_radius_mm || !b.location || std::string_view(b.min_radius_model) != "fillet") continue;

@@ -153,7 +153,8 @@ std::string report_to_json(const InspectionResult& r, const InspectionPlan& plan
     << ", \"resolution_mm\": " << num(r.resolution_mm, 4) << ", \"outlier_radius_mm\": " << num(r.outlier_radius_mm, 4)
     << ", \"outlier_min_neighbors\": " << r.outlier_min_neighbors
     << ", \"occluded_from_origin\": " << num(r.sensor_origin_occluded_fraction, 4)
-    << ", \"sensor_frame\": " << (r.sensor_at_scan_origin ? "true" : "false") << " },\n";
+    << ", \"sensor_frame\": " << (r.sensor_at_scan_origin ? "true" : "false")
+    << ", \"noise_inflation\": " << num(r.noise.inflation, 2) << " },\n";
   o << "  \"elements\": [";
   // Plan order: cables and (when listed) rigid elements as the plan gives them.
   bool first = true;

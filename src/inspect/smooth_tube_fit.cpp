@@ -287,7 +287,27 @@ SmoothTubeFit fit_smooth_tube_from(const std::vector<Eigen::Vector3d>& surface_p
     const double k = apply(model, x).curvature(peak);
     grad[j] = ((k > 0 ? 1.0 / k : 0.0) - out.bend_radius_mm) / h;
   }
-  const double var = grad.dot(cov * grad);
+  // Noise that neighbouring points share (SmoothTubeFitParams::noise): each point's influence on the radius,
+  // w_i row_i . H^-1 grad, and the variance of their sum under the scan's correlation over independent noise's.
+  if (params.noise) {
+    const Vec b = ldlt.solve(grad);
+    const double c = params.kernel_factor * sigma;
+    std::vector<double> influence(n);
+    Vec row;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double nv = normal[i].dot(model.v), nw = normal[i].dot(model.w);
+      double pw = 1.0;
+      for (int k = 0; k < kCoefficients; ++k, pw *= tau[i]) {
+        row[k] = -nv * pw;
+        row[kCoefficients + k] = -nw * pw;
+      }
+      row[kParams - 1] = -1.0;
+      influence[i] = cauchy_weight(res[i], c) * row.dot(b);
+    }
+    out.noise_inflation = b.allFinite() ? correlated_inflation(pts, influence, *params.noise)
+                                        : std::max(1.0, params.noise->inflation);
+  }
+  const double var = grad.dot(cov * grad) * out.noise_inflation;
   out.bend_radius_se_mm = std::isfinite(var) && var >= 0 ? std::sqrt(var) : std::numeric_limits<double>::infinity();
   out.ok = converged && std::isfinite(out.bend_radius_mm) && model.tube_radius_mm > 0 &&
            std::isfinite(out.bend_radius_se_mm);

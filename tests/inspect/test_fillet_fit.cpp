@@ -612,3 +612,67 @@ TEST(FilletRefine, ALegThatPartsFromItsPointsDrifts) {
     EXPECT_EQ(fillet_leg_drifts(corner, pts, kernel, none), 0);
   }
 }
+
+// Noise smoothed over ~1 mm, as a stereo matcher's window smooths its depth errors: Gaussian bumps of width
+// `width_mm` centred on a random tenth of the points, scaled to `sigma_mm`, along each point's ray.
+std::vector<Eigen::Vector3d> with_smooth_noise(const std::vector<Eigen::Vector3d>& pts, double sigma_mm,
+                                               double width_mm, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  std::vector<std::pair<Eigen::Vector3d, double>> bumps;
+  for (const Eigen::Vector3d& p : pts)
+    if (uni(rng) < 0.1) bumps.emplace_back(p, gauss(rng));
+  std::vector<double> field(pts.size(), 0.0);
+  const double reach2 = 16.0 * width_mm * width_mm;
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    for (const auto& [c, a] : bumps) {
+      const double d2 = (pts[i] - c).squaredNorm();
+      if (d2 < reach2) field[i] += a * std::exp(-0.5 * d2 / (width_mm * width_mm));
+    }
+  double ss = 0.0;
+  for (double f : field) ss += f * f;
+  const double scale = sigma_mm / std::sqrt(ss / double(pts.size()));
+  const Eigen::Vector3d sensor(0, 0, 600);
+  std::vector<Eigen::Vector3d> out(pts.size());
+  for (std::size_t i = 0; i < pts.size(); ++i) out[i] = pts[i] + scale * field[i] * (pts[i] - sensor).normalized();
+  return out;
+}
+
+TEST(FilletFit, ItsStandardErrorCountsNoiseThatNeighboursShare) {
+  // A 3 mm tube bent 60 deg at 30 mm, its noise 0.2 mm smoothed by bumps 1 mm wide (correlation exp(-h^2 / 4) at
+  // lag h mm): over 30 draws the fitted radius spreads far more than independent noise's standard error says; with
+  // the correlation known (FilletFitParams::noise) the standard error matches the spread.
+  FilletModel truth;
+  const std::vector<Eigen::Vector3d> clean = bent_tube(3.0, 30.0, 60.0, 25.0, 0.0, 0.0, 1, &truth);
+  NoiseCorrelation nc;
+  nc.bin_mm = 0.5;
+  for (int k = 0; k < 10; ++k) {
+    const double h = (k + 0.5) * nc.bin_mm;
+    nc.rho.push_back(std::exp(-0.25 * h * h));
+  }
+  nc.inflation = 40.0;
+  FilletFitParams counted;
+  counted.noise = &nc;
+  std::vector<double> radii;
+  double se_independent = 0.0, se_counted = 0.0;
+  const int draws = 30;
+  for (int d = 0; d < draws; ++d) {
+    const std::vector<Eigen::Vector3d> pts = with_smooth_noise(clean, 0.2, 1.0, 100 + d);
+    const FilletFit independent = fit_fillet(pts, perturbed(truth, 1.2));
+    const FilletFit f = fit_fillet(pts, perturbed(truth, 1.2), counted);
+    ASSERT_TRUE(f.ok);
+    EXPECT_NEAR(f.model.bend_radius_mm, independent.model.bend_radius_mm, 1e-9);  // the same fit
+    EXPECT_GT(f.noise_inflation, 2.0);
+    radii.push_back(f.model.bend_radius_mm);
+    se_independent += independent.bend_radius_se_mm / draws;
+    se_counted += f.bend_radius_se_mm / draws;
+  }
+  double mean = 0.0, var = 0.0;
+  for (double r : radii) mean += r / draws;
+  for (double r : radii) var += (r - mean) * (r - mean) / (draws - 1);
+  const double spread = std::sqrt(var);
+  EXPECT_GT(spread, 2.0 * se_independent);
+  EXPECT_GT(se_counted, 0.6 * spread);
+  EXPECT_LT(se_counted, 1.7 * spread);
+}

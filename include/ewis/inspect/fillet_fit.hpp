@@ -66,7 +66,13 @@ struct FilletFitParams {
   bool fit_tube_radius = true;
   bool fit_bend_radius = true;        // false: the bend radius stays at the initial one (a competing hypothesis)
   bool fit_tilt = false;              // true: the arc may be a helix (FilletModel::tilt_rad); false: it stays as given
+  // Noise that neighbouring points share (filter/noise_correlation.hpp; null: independent). The radius's standard
+  // error counts it (FilletFit::noise_inflation: the variance of the points' influences on the radius summed under
+  // the scan's correlation, correlated_inflation), and refine_bends_with_fillets divides the likelihood ratios about
+  // a fit's radius by that fit's inflation.
+  const NoiseCorrelation* noise = nullptr;
 };
+
 
 struct FilletFit {
   bool ok = false;                    // converged to a bend (turn > 0, finite radius)
@@ -74,6 +80,7 @@ struct FilletFit {
   double rms_mm = 0.0;                // robust (Cauchy-weighted) RMS of the surface residuals
   double sigma_mm = 0.0;              // robust sigma (1.4826 MAD) of the residuals
   double bend_radius_se_mm = 0.0;     // standard error of the bend radius (Gauss-Newton covariance)
+  double noise_inflation = 1.0;       // the radius's variance over what independent noise gives (FilletFitParams::noise)
   int iterations = 0;
   std::size_t points = 0;
 };

@@ -13,6 +13,7 @@
 #include "ewis/core/pose.hpp"
 #include "ewis/core/progress.hpp"
 #include "ewis/filter/outlier_removal.hpp"
+#include "ewis/filter/noise_correlation.hpp"
 #include "ewis/inspect/run_joins.hpp"
 #include "ewis/inspect/bend_radius.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
@@ -100,6 +101,13 @@ struct InspectParams {
   double untangle_margin_mm = 2.0;
   BendRadiusParams bend;
   FilletRefineParams fillet;            // tight bends re-measured on the surface points
+  // Noise that neighbouring points share (filter/noise_correlation.hpp): where the scan's inflation reaches
+  // min_noise_inflation, the bend fits' standard errors and likelihood ratios count it (FilletFitParams::noise).
+  // Below it they assume independent noise: on such scans the estimate reads 1.00-1.02, on noise-free ones (the
+  // as-built mesh's facets alone) 1.0-1.3; noise smoothed over 2 pixels 20-25 (docs/inspect.md "Noise that
+  // neighbouring points share"). <= 0: not measured.
+  NoiseCorrelationParams noise_correlation;
+  double min_noise_inflation = 3.0;
   SurfaceClumpParams surface_clumps;    // left out of the bend fits (surface_clumps.hpp)
   RunJoinParams joins;                  // a bend hidden between two runs, measured across the gap (run_joins.hpp)
   PaperBendParams paper_bend;
@@ -179,6 +187,7 @@ struct InspectionResult {
   double outlier_radius_mm = 0.0;
   int outlier_min_neighbors = 0;
   double resolution_mm = 0.0;           // median nearest-neighbour distance of the filtered scan
+  NoiseCorrelation noise;               // of the filtered scan (InspectParams::noise_correlation)
   Cloud cloud;                          // the filtered scan in CAD coordinates
   Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();  // CAD coordinates
   Eigen::Vector3d optical_axis = Eigen::Vector3d::UnitZ();    // CAD coordinates

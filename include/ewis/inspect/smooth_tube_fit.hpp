@@ -11,6 +11,8 @@
 #include <array>
 #include <vector>
 
+#include "ewis/filter/noise_correlation.hpp"
+
 namespace ewis {
 
 struct SmoothTubeModel {
@@ -39,6 +41,7 @@ struct SmoothTubeFitParams {
   double min_noise_mm = 0.05;     // floor of the robust residual scale
   double kernel_factor = 2.5;     // Cauchy scale = kernel_factor x robust sigma of the residuals
   double peak_fraction = 0.5;     // the curvature's peak is sought over |tau| <= this (the window's middle)
+  const NoiseCorrelation* noise = nullptr;  // as FilletFitParams::noise
 };
 
 struct SmoothTubeFit {
@@ -46,6 +49,7 @@ struct SmoothTubeFit {
   SmoothTubeModel model;
   double bend_radius_mm = 0.0;    // 1 / the largest curvature over |tau| <= peak_fraction
   double bend_radius_se_mm = 0.0; // its standard error (Gauss-Newton covariance, delta method)
+  double noise_inflation = 1.0;   // its variance over what independent noise gives (SmoothTubeFitParams::noise)
   double peak_tau = 0.0;          // where
   Eigen::Vector3d peak_point = Eigen::Vector3d::Zero();
   double sigma_mm = 0.0;          // robust sigma (1.4826 MAD) of the residuals
