@@ -55,11 +55,16 @@ double quartic_rss(const std::vector<double>& u, const std::vector<double>& v, c
   using Vec15 = Eigen::Matrix<double, 15, 1>;
   using Mat15 = Eigen::Matrix<double, 15, 15>;
   const auto quartic_terms = [&](double uu, double vv) {
-    const double a = uu * scale, b = vv * scale;
+    double pa[5], pb[5];
+    pa[0] = pb[0] = 1.0;
+    for (int i = 1; i < 5; ++i) {
+      pa[i] = pa[i - 1] * uu * scale;
+      pb[i] = pb[i - 1] * vv * scale;
+    }
     Vec15 t;
     int k = 0;
     for (int degree = 0; degree <= 4; ++degree)
-      for (int i = degree; i >= 0; --i) t[k++] = std::pow(a, i) * std::pow(b, degree - i);
+      for (int i = degree; i >= 0; --i) t[k++] = pa[i] * pb[degree - i];
     return t;
   };
   Mat15 a = Mat15::Zero();

@@ -73,21 +73,21 @@ const auto kFlat = [](double, double) { return 0.0; };
 
 TEST(NoiseCorrelation, IndependentNoiseReadsOne) {
   const NoiseCorrelation nc = estimate(noisy_surface(kFlat, 0.1, 0.0, 0.0));
-  EXPECT_GT(nc.patches, 100u);
+  EXPECT_GT(nc.patches, 80u);
   EXPECT_NEAR(nc.sigma_mm, 0.1, 0.01);
   EXPECT_LT(nc.inflation, 1.3);
 }
 
 TEST(NoiseCorrelation, AGentleCurveIsNoCorrelation) {
-  // A cylinder of 40 mm radius (the grid's x across it) with little noise: a quadric over a patch misfits it by
-  // far less than the noise.
+  // A cylinder of 40 mm radius (the grid's x across it) with little noise: a quadric over a 12 mm patch misfits it
+  // by up to 0.04 mm, about the noise (0.05 mm); that must stay well under the inflation the fits count (3).
   const auto cylinder = [](double x, double) {
     const double u = x - 75.0;
     return std::sqrt(std::max(0.0, 1600.0 - u * u));
   };
   const NoiseCorrelation nc = estimate(noisy_surface(cylinder, 0.05, 0.0, 0.0));
-  EXPECT_GT(nc.patches, 50u);
-  EXPECT_LT(nc.inflation, 1.5);
+  EXPECT_GT(nc.patches, 40u);
+  EXPECT_LT(nc.inflation, 2.0);
 }
 
 TEST(NoiseCorrelation, TightlyCurvedSurfacesAreNoCorrelation) {
@@ -106,7 +106,7 @@ TEST(NoiseCorrelation, NoiseSmoothedOverAFewPointsInflatesTheVariance) {
   const double share = correlated * correlated / (correlated * correlated + independent * independent);
   const double truth = 1.0 + share * (4.0 * M_PI * sigma_cells * sigma_cells - 1.0);
   const NoiseCorrelation nc = estimate(noisy_surface(kFlat, independent, correlated, sigma_cells));
-  EXPECT_GT(nc.patches, 100u);
+  EXPECT_GT(nc.patches, 80u);
   EXPECT_GT(nc.inflation, 0.5 * truth);
   EXPECT_LT(nc.inflation, 1.2 * truth);
   ASSERT_FALSE(nc.rho.empty());

@@ -16,10 +16,10 @@
 namespace ewis {
 
 struct NoiseCorrelationParams {
-  std::size_t patches = 300;           // seeds evenly strided along the tree's leaf order
+  std::size_t patches = 200;           // seeds evenly strided along the tree's leaf order
   double patch_radius = 24.0;          // x resolution: the quadric's patch (12 mm at 0.5 mm)
   double max_lag = 10.0;               // x resolution: rho's lags, in bins of one resolution
-  std::size_t max_patch_points = 200;  // evenly strided within the patch (the pairs cost its square)
+  std::size_t max_patch_points = 160;  // evenly strided within the patch (the pairs cost its square)
   std::size_t min_patch_points = 40;
   double trim_sigmas = 3.0;            // residuals beyond this many robust sigmas (outliers the filter kept): left out
   double max_patch_sigma_ratio = 1.5;  // patches over this x the median sigma are no smooth surface (edges, thin cables)
