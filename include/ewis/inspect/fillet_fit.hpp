@@ -73,7 +73,6 @@ struct FilletFitParams {
   const NoiseCorrelation* noise = nullptr;
 };
 
-
 struct FilletFit {
   bool ok = false;                    // converged to a bend (turn > 0, finite radius)
   FilletModel model;

@@ -103,9 +103,9 @@ struct InspectParams {
   FilletRefineParams fillet;            // tight bends re-measured on the surface points
   // Noise that neighbouring points share (filter/noise_correlation.hpp): where the scan's inflation reaches
   // min_noise_inflation, the bend fits' standard errors and likelihood ratios count it (FilletFitParams::noise).
-  // Below it they assume independent noise: on such scans the estimate reads 1.00-1.02, on noise-free ones (the
-  // as-built mesh's facets alone) 1.0-1.3; noise smoothed over 2 pixels 20-25 (docs/inspect.md "Noise that
-  // neighbouring points share"). <= 0: not measured.
+  // Below it they assume independent noise: on such scans the estimate reads 1.00-1.45, on noise-free ones 1 (no
+  // estimate under 0.01 mm of noise); noise smoothed over 1 / 2 / 3 pixels 8-9 / 20-26 / 36-42 (docs/inspect.md
+  // "Noise that neighbouring points share"). <= 0: not measured.
   NoiseCorrelationParams noise_correlation;
   double min_noise_inflation = 3.0;
   SurfaceClumpParams surface_clumps;    // left out of the bend fits (surface_clumps.hpp)
