@@ -11,9 +11,55 @@
 namespace ewis {
 namespace {
 
-constexpr int kTerms = 6;  // the quadric height field 1, u, v, u^2, uv, v^2
-using Vec6 = Eigen::Matrix<double, kTerms, 1>;
-using Mat6 = Eigen::Matrix<double, kTerms, kTerms>;
+// Height fields over a patch's tangent plane: the polynomials of degree D in u and v, (D + 1)(D + 2) / 2 terms
+// ordered by degree (1, u, v, u^2, uv, v^2, ...), u and v scaled to order 1.
+template <int D>
+constexpr int kHeightTerms = (D + 1) * (D + 2) / 2;
+template <int D>
+using HeightVec = Eigen::Matrix<double, kHeightTerms<D>, 1>;
+template <int D>
+using HeightMat = Eigen::Matrix<double, kHeightTerms<D>, kHeightTerms<D>>;
+
+template <int D>
+HeightVec<D> height_terms(double u, double v, double scale) {
+  const double a = u * scale, b = v * scale;
+  double pa[D + 1], pb[D + 1];
+  pa[0] = pb[0] = 1.0;
+  for (int i = 1; i <= D; ++i) {
+    pa[i] = pa[i - 1] * a;
+    pb[i] = pb[i - 1] * b;
+  }
+  HeightVec<D> t;
+  int k = 0;
+  for (int degree = 0; degree <= D; ++degree)
+    for (int i = degree; i >= 0; --i) t[k++] = pa[i] * pb[degree - i];
+  return t;
+}
+
+// The degree-D height field fitted by least squares to the points (u, v, h) where `use` is set; false when the
+// normal equations are singular (a pivot under min_pivot_ratio x the largest).
+template <int D>
+bool fit_height_field(const std::vector<double>& u, const std::vector<double>& v, const std::vector<double>& h,
+                      const std::vector<std::uint8_t>& use, double scale, double min_pivot_ratio, HeightVec<D>& coef,
+                      Eigen::LDLT<HeightMat<D>>& ldlt) {
+  HeightMat<D> a = HeightMat<D>::Zero();
+  HeightVec<D> b = HeightVec<D>::Zero();
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    if (!use[i]) continue;
+    const HeightVec<D> t = height_terms<D>(u[i], v[i], scale);
+    a.noalias() += t * t.transpose();
+    b += t * h[i];
+  }
+  ldlt.compute(a);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > min_pivot_ratio * ldlt.vectorD().maxCoeff()))
+    return false;
+  coef = ldlt.solve(b);
+  return coef.allFinite();
+}
+
+constexpr int kTerms = kHeightTerms<2>;  // the quadric: 1, u, v, u^2, uv, v^2
+using Vec6 = HeightVec<2>;
+using Mat6 = HeightMat<2>;
 
 // One smooth patch's residuals off its quadric, in its tangent plane.
 struct Patch {
@@ -24,65 +70,16 @@ struct Patch {
   std::vector<Vec6> x, y;        // each point's terms and (X^T X)^-1 times them: the hat value h_ij = x_i . y_j
 };
 
-Vec6 terms(double u, double v, double scale) {
-  const double a = u * scale, b = v * scale;
-  Vec6 t;
-  t << 1.0, a, b, a * a, a * b, b * b;
-  return t;
-}
-
-// The quadric fitted to the points (u, v, h) where `use` is set; false when the fit is singular.
-bool fit_quadric(const std::vector<double>& u, const std::vector<double>& v, const std::vector<double>& h,
-                 const std::vector<std::uint8_t>& use, double scale, Vec6& coef, Eigen::LDLT<Mat6>& ldlt) {
-  Mat6 a = Mat6::Zero();
-  Vec6 b = Vec6::Zero();
-  for (std::size_t i = 0; i < u.size(); ++i) {
-    if (!use[i]) continue;
-    const Vec6 t = terms(u[i], v[i], scale);
-    a.noalias() += t * t.transpose();
-    b += t * h[i];
-  }
-  ldlt.compute(a);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-9 * ldlt.vectorD().maxCoeff())) return false;
-  coef = ldlt.solve(b);
-  return coef.allFinite();
-}
-
-// The residual sum of squares of a quartic height field (15 terms) over the points where `use` is set; -1 when
-// singular.
+// The residual sum of squares of a quartic height field over the points where `use` is set; -1 when singular.
 double quartic_rss(const std::vector<double>& u, const std::vector<double>& v, const std::vector<double>& h,
                    const std::vector<std::uint8_t>& use, double scale) {
-  using Vec15 = Eigen::Matrix<double, 15, 1>;
-  using Mat15 = Eigen::Matrix<double, 15, 15>;
-  const auto quartic_terms = [&](double uu, double vv) {
-    double pa[5], pb[5];
-    pa[0] = pb[0] = 1.0;
-    for (int i = 1; i < 5; ++i) {
-      pa[i] = pa[i - 1] * uu * scale;
-      pb[i] = pb[i - 1] * vv * scale;
-    }
-    Vec15 t;
-    int k = 0;
-    for (int degree = 0; degree <= 4; ++degree)
-      for (int i = degree; i >= 0; --i) t[k++] = pa[i] * pb[degree - i];
-    return t;
-  };
-  Mat15 a = Mat15::Zero();
-  Vec15 b = Vec15::Zero();
-  for (std::size_t i = 0; i < u.size(); ++i) {
-    if (!use[i]) continue;
-    const Vec15 t = quartic_terms(u[i], v[i]);
-    a.noalias() += t * t.transpose();
-    b += t * h[i];
-  }
-  const Eigen::LDLT<Mat15> ldlt(a);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 1e-12 * ldlt.vectorD().maxCoeff())) return -1.0;
-  const Vec15 coef = ldlt.solve(b);
-  if (!coef.allFinite()) return -1.0;
+  HeightVec<4> coef;
+  Eigen::LDLT<HeightMat<4>> ldlt;
+  if (!fit_height_field<4>(u, v, h, use, scale, 1e-12, coef, ldlt)) return -1.0;
   double rss = 0.0;
   for (std::size_t i = 0; i < u.size(); ++i)
     if (use[i]) {
-      const double r = h[i] - quartic_terms(u[i], v[i]).dot(coef);
+      const double r = h[i] - height_terms<4>(u[i], v[i], scale).dot(coef);
       rss += r * r;
     }
   return rss;
@@ -125,8 +122,8 @@ Patch measure_patch(const KdTree& tree, std::uint32_t seed, double radius_mm, co
   std::vector<double> r(m), tmp;
   // Fitted, the residuals' outliers (beyond trim_sigmas robust sigmas) set aside, fitted again.
   for (int pass = 0; pass < 2; ++pass) {
-    if (!fit_quadric(u, v, h, use, scale, coef, ldlt)) return out;
-    for (std::size_t k = 0; k < m; ++k) r[k] = h[k] - terms(u[k], v[k], scale).dot(coef);
+    if (!fit_height_field<2>(u, v, h, use, scale, 1e-9, coef, ldlt)) return out;
+    for (std::size_t k = 0; k < m; ++k) r[k] = h[k] - height_terms<2>(u[k], v[k], scale).dot(coef);
     if (pass == 1) break;
     const double s = robust_sigma(r, 1e-9, tmp);
     std::size_t kept = 0;
@@ -148,7 +145,7 @@ Patch measure_patch(const KdTree& tree, std::uint32_t seed, double radius_mm, co
     out.u.push_back(u[k]);
     out.v.push_back(v[k]);
     out.r.push_back(r[k]);
-    const Vec6 t = terms(u[k], v[k], scale);
+    const Vec6 t = height_terms<2>(u[k], v[k], scale);
     out.x.push_back(t);
     out.y.push_back(ldlt.solve(t));
     sum2 += r[k] * r[k];

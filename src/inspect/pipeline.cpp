@@ -505,7 +505,13 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("trace", 1.0);
   clock.lap("trace");
 
-  // paper 4.3.1: bend radius, every cable at once.
+  // paper 4.3.1: bend radius, every cable at once; the fits count the scan's noise correlation where it matters
+  // (InspectParams::min_noise_inflation).
+  FilletRefineParams fillet_params = params.fillet;
+  if (params.min_noise_inflation > 0.0 && res.noise.inflation >= params.min_noise_inflation) {
+    fillet_params.fit.noise = &res.noise;
+    fillet_params.smooth_fit.noise = &res.noise;
+  }
   parallel_for_each_index(res.cables.size(), [&](std::size_t c) {
     CableInspection& ci = res.cables[c];
     if (!ci.found) return;
@@ -550,11 +556,6 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       if (!clump_free.empty()) fs.usable = &clump_free;
     }
     const auto kept = [&](std::uint32_t i) { return clump_free.empty() || clump_free[i]; };
-    FilletRefineParams fillet_params = params.fillet;
-    if (params.min_noise_inflation > 0.0 && res.noise.inflation >= params.min_noise_inflation) {
-      fillet_params.fit.noise = &res.noise;
-      fillet_params.smooth_fit.noise = &res.noise;
-    }
     for (std::size_t k = 0; k < ci.runs.size(); ++k) {
       BendRadiusResult b = measure_bend_radius(ci.runs[k].centerline, ci.nominal_diameter_mm, params.bend);
       // Tight bends again, on the run's surface points (a short arc is a corner to any centreline window).

@@ -193,17 +193,22 @@ SmoothTubeFit fit_smooth_tube_from(const std::vector<Eigen::Vector3d>& surface_p
     Vec g = Vec::Zero();
     double wsum = 0, wr2 = 0;
   };
+  // Point i's row of the Jacobian at the current model, closest parameters and normals.
+  auto jacobian_row = [&](std::size_t i) {
+    Vec row;
+    const double nv = normal[i].dot(model.v), nw = normal[i].dot(model.w);
+    double pw = 1.0;
+    for (int k = 0; k < kCoefficients; ++k, pw *= tau[i]) {
+      row[k] = -nv * pw;
+      row[kCoefficients + k] = -nw * pw;
+    }
+    row[kParams - 1] = -1.0;
+    return row;
+  };
   auto normal_equations = [&](double scale_mm) {
     Normal ne;
-    Eigen::Matrix<double, kParams, 1> row;
     for (std::size_t i = 0; i < n; ++i) {
-      const double nv = normal[i].dot(model.v), nw = normal[i].dot(model.w);
-      double pw = 1.0;
-      for (int k = 0; k < kCoefficients; ++k, pw *= tau[i]) {
-        row[k] = -nv * pw;
-        row[kCoefficients + k] = -nw * pw;
-      }
-      row[kParams - 1] = -1.0;
+      const Vec row = jacobian_row(i);
       const double w = cauchy_weight(res[i], scale_mm);
       ne.H.noalias() += w * row * row.transpose();
       ne.g.noalias() += w * res[i] * row;
@@ -293,17 +298,7 @@ SmoothTubeFit fit_smooth_tube_from(const std::vector<Eigen::Vector3d>& surface_p
     const Vec b = ldlt.solve(grad);
     const double c = params.kernel_factor * sigma;
     std::vector<double> influence(n);
-    Vec row;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double nv = normal[i].dot(model.v), nw = normal[i].dot(model.w);
-      double pw = 1.0;
-      for (int k = 0; k < kCoefficients; ++k, pw *= tau[i]) {
-        row[k] = -nv * pw;
-        row[kCoefficients + k] = -nw * pw;
-      }
-      row[kParams - 1] = -1.0;
-      influence[i] = cauchy_weight(res[i], c) * row.dot(b);
-    }
+    for (std::size_t i = 0; i < n; ++i) influence[i] = cauchy_weight(res[i], c) * jacobian_row(i).dot(b);
     out.noise_inflation = b.allFinite() ? correlated_inflation(pts, influence, *params.noise)
                                         : std::max(1.0, params.noise->inflation);
   }
