@@ -64,6 +64,16 @@ void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, co
   }
 }
 
+OrientationRepair orient_rigid_faces(Scene& scene, const InspectionPlan& plan) {
+  std::vector<bool> rigid(scene.elements.size(), true);
+  for (const PlanElement& e : plan.elements)
+    if (e.kind == ElementKind::Cable) {
+      const int idx = scene.find(e.name);
+      if (idx >= 0) rigid[std::size_t(idx)] = false;
+    }
+  return orient_faces_outward(scene, rigid);
+}
+
 InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud scan,
                          const std::optional<Pose>& initial_scan_to_cad, const InspectParams& params,
                          const ProgressFn& progress) {
@@ -90,6 +100,21 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   };
   res.scan_points = scan.size();
   if (scan.empty()) throw ProcessingError("the scan has no points");
+  // A CAD wound inside out, or against itself, was turned outward when it was read (scene/orient_faces.hpp): said,
+  // since which way a face looks decides what the registration matches it with.
+  {
+    std::size_t triangles = 0, elements = 0;
+    std::string names;
+    for (const Element& e : scene.elements) {
+      if (e.reoriented_triangles == 0) continue;
+      triangles += e.reoriented_triangles;
+      if (++elements <= 4) names += (names.empty() ? "" : ", ") + e.name;
+    }
+    if (elements > 4) names += " and " + std::to_string(elements - 4) + " more";
+    if (triangles > 0)
+      res.warnings.push_back("the CAD's faces of " + names + " (" + std::to_string(triangles) +
+                             " triangles) were wound inside out or against their neighbours: turned outward");
+  }
 
   // paper 4.1.1: radius outlier removal with parameters derived from the resolution.
   report("filter", 0.0);

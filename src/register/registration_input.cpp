@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "ewis/core/error.hpp"
+#include "ewis/scene/orient_faces.hpp"
 
 namespace ewis {
 namespace {
@@ -51,6 +52,7 @@ RegistrationInput read_registration_input(const std::string& path, LengthUnit cl
   if (is_mesh_file(path)) {
     in.is_mesh = true;
     in.scene = load_scene(path);
+    orient_faces_outward(in.scene);  // every element a target: which way its faces look is read (orient_faces.hpp)
   } else {
     in.cloud = read_cloud(path, cloud_unit).cloud;
     if (in.cloud.size() < 3) throw InputError(path, "fewer than 3 finite points to register");

@@ -299,8 +299,10 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
                              0.0, kZoneGrowCapMm, &surfaces);
     consider(local, false);
     ok = fits_as_initial(local);
-    // (ScanToCadParams::local_retry_near_mm): kept only under the box rule's bound on the CAD in front
-    if (!ok && params.local_retry_near_mm > 0.0 && params.icp.expected_error_mm > params.local_retry_near_mm) {
+    // (ScanToCadParams::local_retry_near_mm): kept only under the box rule's bound on the CAD in front. Tried too
+    // where a trusted result puts more of the CAD in front than that bound (right poses: 0-1.9 %): slid along a plate.
+    const bool slid = ok && local.free_space.fraction() > params.box_trusted_in_front_fraction;
+    if ((!ok || slid) && params.local_retry_near_mm > 0.0 && params.icp.expected_error_mm > params.local_retry_near_mm) {
       const Run near = refine(scan, target, *initial_scan_to_cad, params.local_retry_near_mm, params, progress, bins,
                               0.0, kZoneGrowCapMm, &surfaces);
       if (fits_as_initial(near) && near.free_space.fraction() <= params.box_trusted_in_front_fraction &&

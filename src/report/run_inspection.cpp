@@ -22,6 +22,7 @@ LoadedInputs load_inspection_inputs(const InspectionInputs& in) {
       [&] {
         try {
           out.scene = load_scene(in.cad);
+          orient_rigid_faces(out.scene, out.plan);  // while the scan is read (inspect warns where it reversed faces)
         } catch (...) {
           scene_error = std::current_exception();
         }

@@ -177,6 +177,10 @@ Mesh make_tube(const std::vector<Eigen::Vector3d>& centerline, double radius_mm,
 
 void transform_mesh(Mesh& mesh, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation) {
   for (Eigen::Vector3f& v : mesh.vertices) v = (rotation * v.cast<double>() + translation).cast<float>();
+  // A mirror turns the mesh inside out: wound back, it stays outward (the simulator's brackets stood in frames of
+  // either hand, and half of them were written inside out).
+  if (rotation.determinant() < 0.0)
+    for (Eigen::Vector3i& t : mesh.triangles) std::swap(t[1], t[2]);
 }
 
 }  // namespace ewis

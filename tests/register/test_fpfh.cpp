@@ -75,7 +75,9 @@ TEST(RegistrationInput, PlyWithFacesIsAMesh) {
   EXPECT_FALSE(is_mesh_file("x.pcd"));
   const RegistrationInput m = read_registration_input(mesh);
   EXPECT_TRUE(m.is_mesh);
-  EXPECT_EQ(m.scene.triangles.size(), 1u);
+  // One open triangle: its other side is added (scene/orient_faces.hpp), whichever way it was wound.
+  ASSERT_EQ(m.scene.triangles.size(), 2u);
+  EXPECT_EQ(m.scene.triangles[1], Eigen::Vector3i(0, 2, 1));
   const RegistrationInput p = read_registration_input(cloud, LengthUnit::Metre);
   EXPECT_FALSE(p.is_mesh);
   ASSERT_EQ(p.cloud.size(), 3u);

@@ -22,6 +22,7 @@
 #include "ewis/io/plan_file.hpp"
 #include "ewis/register/cad_target.hpp"
 #include "ewis/register/scan_to_cad.hpp"
+#include "ewis/scene/orient_faces.hpp"
 #include "ewis/scene/scene.hpp"
 #include "ewis/tubes/trace.hpp"
 
@@ -202,6 +203,12 @@ struct InspectionResult {
 // Checks that every element the plan names (and every attached name) exists in the scene; throws
 // InputError(plan_path, ...) otherwise.
 void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, const std::string& plan_path);
+
+// The faces of every element the plan does not call a cable made consistent and outward, open ones two-sided
+// (scene/orient_faces.hpp): the registration's culling and the free-space check read which way a face looks. A
+// cable's winding is read by nothing, and re-winding it would only redraw its CAD samples (each flipped triangle's
+// samples move), so it is left as written. Each repaired element counts its reversed triangles; `inspect` warns.
+OrientationRepair orient_rigid_faces(Scene& scene, const InspectionPlan& plan);
 
 // The whole inspection. `scan` is in the sensor's frame (mm); it is taken by value so that a caller that moves
 // it in lets it go right after outlier removal (peak memory, issue 8). Throws ProcessingError when registration

@@ -23,7 +23,7 @@ Mesh make_torus(const Eigen::Vector3d& center, const Eigen::Vector3d& axis, doub
 // with flat end caps. Consecutive centreline points should be closer than the radius for smooth bends.
 Mesh make_tube(const std::vector<Eigen::Vector3d>& centerline, double radius_mm, int segments = 24);
 
-// Applies a rigid transform to every vertex.
+// Applies a rigid transform to every vertex (a mirror also reverses the winding: the mesh stays outward).
 void transform_mesh(Mesh& mesh, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation);
 
 }  // namespace ewis

@@ -16,6 +16,7 @@ struct Element {
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  // area-weighted surface centroid
   Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();
+  std::uint32_t reoriented_triangles = 0;  // wound inside out or against their neighbours in the file (orient_faces.hpp)
 };
 
 struct Scene {
@@ -40,7 +41,8 @@ void update_element_stats(Scene& scene);
 
 // Loads OBJ/STL/PLY/glTF/... through Assimp (no merging post-processes, so names survive); meshes of the
 // same node/object name form one element. Degenerate (zero-area) triangles are dropped and counted in
-// `dropped_degenerate` when given. Throws InputError(path, what) on a missing, unreadable or empty file.
+// `dropped_degenerate` when given. The faces' winding is left as written (orient_faces.hpp repairs it).
+// Throws InputError(path, what) on a missing, unreadable or empty file.
 Scene load_scene(const std::string& path, std::size_t* dropped_degenerate = nullptr);
 
 // Writes a Wavefront OBJ with one `o NAME` per element (atomic: temporary file + rename). Blanks in names
