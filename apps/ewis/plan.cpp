@@ -4,6 +4,7 @@
 
 #include "common.hpp"
 #include "ewis/core/error.hpp"
+#include "ewis/inspect/pipeline.hpp"
 #include "ewis/io/plan_file.hpp"
 #include "ewis/plan/viewpoint_plan.hpp"
 #include "ewis/scene/scene.hpp"
@@ -87,6 +88,7 @@ Command add_plan(CLI::App& root, CommonOptions& common) {
     const InspectionPlan plan = read_plan(opt->plan);
     const Scene scene = load_scene(opt->cad);
     const std::vector<std::uint32_t> elements = resolve_elements(scene, plan, opt->elements, opt->cad, opt->plan);
+    check_cad_units(plan, scene, opt->cad);
     if (!(params.candidates.radius_mm > 0)) params.candidates.radius_mm = plan.sensor.standoff_mm;
     // Validate the sampling options before any work (exit 2, nothing written).
     (void)theta_samples_deg(params.candidates);

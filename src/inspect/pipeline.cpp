@@ -64,6 +64,28 @@ void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, co
   }
 }
 
+void check_cad_units(const InspectionPlan& plan, const Scene& scene, const std::string& cad_path) {
+  std::string thinnest;  // the first cable's figures, for the message
+  int cables = 0, thin = 0;
+  for (const PlanElement& e : plan.elements) {
+    const int idx = scene.find(e.name);
+    if (e.kind != ElementKind::Cable || idx < 0 || !(e.diameter_mm > 0)) continue;
+    const Element& el = scene.elements[std::size_t(idx)];
+    if (el.triangle_count == 0) continue;
+    ++cables;
+    const double least = (el.bounds_max - el.bounds_min).minCoeff();
+    if (!(least < 0.5 * e.diameter_mm)) continue;
+    if (++thin == 1) {
+      char text[200];
+      std::snprintf(text, sizeof text, "%s is %.3g mm across in the CAD for a %.3g mm diameter in the plan",
+                    e.name.c_str(), least, e.diameter_mm);
+      thinnest = text;
+    }
+  }
+  if (cables > 0 && thin == cables)
+    throw InputError(cad_path, thinnest + ": the CAD looks like metres or inches; CAD coordinates are millimetres");
+}
+
 OrientationRepair orient_rigid_faces(Scene& scene, const InspectionPlan& plan) {
   std::vector<bool> rigid(scene.elements.size(), true);
   for (const PlanElement& e : plan.elements)
@@ -135,6 +157,25 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("filter", 1.0);
   clock.lap("filter");
 
+  // A scan whose points lie mostly at negative z was written in a camera frame looking along -z (x right, y up: as
+  // OpenGL's and Blender's cameras). The inspection takes the sensor looking along +z with y down (CONTRACT): such a
+  // scan is turned 180 deg about x for it, its initial pose with it; report.json's transform maps the scan as given.
+  // (Left as it was, it read as no depth image from its origin: 100 % of its points "behind" others on their ray.)
+  std::optional<Pose> initial = initial_scan_to_cad;
+  {
+    std::size_t behind = 0;
+    for (const Eigen::Vector3f& p : filtered.points) behind += p.z() < 0.0f ? 1 : 0;
+    if (2 * behind > filtered.size()) {
+      res.scan_to_sensor.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+      for (Eigen::Vector3f& p : filtered.points) p = Eigen::Vector3f(p.x(), -p.y(), -p.z());
+      for (Eigen::Vector3f& n : filtered.normals) n = Eigen::Vector3f(n.x(), -n.y(), -n.z());
+      if (initial) *initial = *initial * res.scan_to_sensor;  // (the turn is its own inverse)
+      res.warnings.push_back("the scan looks along -z (a camera frame with y up, as OpenGL's): turned 180 deg about x "
+                             "for the inspection, which takes z forward and y down; the reported transform maps the "
+                             "scan as given");
+    }
+  }
+
   // Everything along the sensor's rays (veils, free space, back faces, the tubes' rays, hidden interference) takes
   // the sensor at the scan's origin (CONTRACT: scans in the sensor's frame). A scan saved in another frame (a
   // robot's, the CAD's) is not a depth image from there (register/sensor_origin.hpp): measured and reported, not
@@ -152,13 +193,13 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("register", 0.0);
   ScanToCadResult reg;
   std::shared_ptr<const SurfaceIndex> rigid_index;  // the rigid triangles, from the target when it indexed them
-  if (params.register_scan || !initial_scan_to_cad) {
+  if (params.register_scan || !initial) {
     const CadTarget target = build_cad_target(scene, plan, params.target);
-    reg = register_scan_to_cad(filtered, target, initial_scan_to_cad, params.registration,
+    reg = register_scan_to_cad(filtered, target, initial, params.registration,
                                [&](std::string_view, double f) { report("register", f); });
     rigid_index = target.surface;
   } else {
-    reg.registration.source_to_target = *initial_scan_to_cad;
+    reg.registration.source_to_target = *initial;
     reg.registration.converged = true;
     reg.registration.fitness = 1.0;
     reg.valid = true;

@@ -136,7 +136,7 @@ std::string report_to_json(const InspectionResult& r, const InspectionPlan& plan
   o << "{\n";
   o << "  \"verdict\": \"" << (r.pass ? "pass" : "fail") << "\",\n";
   o << "  \"registration\": {\n    \"transform\": [";
-  const Eigen::Matrix4d m = r.scan_to_cad.matrix();
+  const Eigen::Matrix4d m = (r.scan_to_cad * r.scan_to_sensor).matrix();  // (the scan as given)
   for (int i = 0; i < 4; ++i) {
     o << (i ? ", " : "") << "[";
     for (int j = 0; j < 4; ++j) o << (j ? ", " : "") << num(m(i, j), j == 3 ? 6 : 9);

@@ -36,6 +36,7 @@ LoadedInputs load_inspection_inputs(const InspectionInputs& in) {
       });
   if (scene_error) std::rethrow_exception(scene_error);
   check_plan_against_scene(out.plan, out.scene, in.plan);
+  check_cad_units(out.plan, out.scene, in.cad);
   if (scan_error) std::rethrow_exception(scan_error);
   if (!in.pose.empty()) out.pose = read_pose(in.pose);
   if (out.scan.cloud.empty()) throw InputError(in.scan, "no finite points");

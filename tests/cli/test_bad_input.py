@@ -15,8 +15,8 @@ import unittest
 
 from ewis_cli import grid, run, tmpdir, write_ply_binary, write_xyz
 from scene_fixtures import (IDENTITY, SEED_ON_CABLE, SmallScene, box_mesh, cable_scan_points, error_line, pcd,
-                            plan_doc, ply_ascii, run_limited, skip_if_not_available, to_camera, write_json, write_obj,
-                            write_text)
+                            plan_doc, ply_ascii, run_limited, skip_if_not_available, small_scene_elements, to_camera,
+                            write_json, write_obj, write_text)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REGRESSIONS = os.path.join(HERE, "..", "fuzz", "regressions")
@@ -433,6 +433,26 @@ class CadInputTest(Common, unittest.TestCase):
                 out = os.path.join(self.d, "cad-register.txt")
                 self.assert_error(["register", "--source", s.scan, "--target", path, "--pose", s.pose, "--out", out,
                                    "-q"], path, outputs=[out])
+
+    def test_a_cad_in_metres_or_inches_is_refused(self):
+        # CAD coordinates are millimetres (CONTRACT); glTF's unit is the metre. The small scene's CAD scaled to metres
+        # and to inches: the cable comes out thinner than half its plan diameter, which inspect and plan refuse with
+        # the CAD named (before: "registration to the CAD failed", exit 3, nothing about units).
+        s = self.scene
+        for unit, scale in (("m", 1e-3), ("in", 1.0 / 25.4)):
+            elements = [(name, [tuple(scale * c for c in v) for v in verts], tris)
+                        for name, verts, tris in small_scene_elements()]
+            cad = os.path.join(self.d, f"scene_{unit}.obj")
+            write_obj(cad, elements)
+            with self.subTest(unit=unit, command="inspect"):
+                out = os.path.join(self.d, f"units-inspect-{unit}")
+                line = self.assert_error(["inspect", "--cad", cad, "--plan", s.plan, "--scan", s.scan, "--pose",
+                                          s.pose, "--out", out, "-q"], cad, outputs=[os.path.join(out, "report.json")])
+                self.assertIn("metres or inches", line)
+            with self.subTest(unit=unit, command="plan"):
+                out = os.path.join(self.d, f"units-plan-{unit}")
+                self.assert_error(["plan", "--cad", cad, "--plan", s.plan, "--element", "cable_A", "--out", out, "-q"],
+                                  cad, outputs=[os.path.join(out, "viewpoints.json")])
 
     def test_some_degenerate_triangles_are_dropped(self):
         """A CAD with zero-area triangles among good ones still plans (they are dropped, not fatal)."""

@@ -170,7 +170,11 @@ struct StepTiming {
 
 struct InspectionResult {
   bool pass = false;
+  // From the sensor's frame the inspection used (z forward, y down) to the CAD's; the scan as given maps by
+  // scan_to_cad * scan_to_sensor (report.json's transform).
   Pose scan_to_cad = Pose::Identity();
+  // The scan as given to that frame: identity, or 180 deg about x for a scan looking along -z (y up).
+  Pose scan_to_sensor = Pose::Identity();
   // Of the filtered scan seen from its origin, the fraction hidden behind other points on their ray
   // (register/sensor_origin.hpp; the campaign's scans: 12-17 %, the same scans in CAD coordinates: 99 %).
   double sensor_origin_occluded_fraction = 0.0;
@@ -209,6 +213,11 @@ void check_plan_against_scene(const InspectionPlan& plan, const Scene& scene, co
 // cable's winding is read by nothing, and re-winding it would only redraw its CAD samples (each flipped triangle's
 // samples move), so it is left as written. Each repaired element counts its reversed triangles; `inspect` warns.
 OrientationRepair orient_rigid_faces(Scene& scene, const InspectionPlan& plan);
+
+// CAD coordinates are millimetres (CONTRACT). A CAD in metres (glTF's unit) or inches comes out a thousandth or a 25th
+// of its size, and the registration then fails with nothing to say why. Where every cable of the plan is thinner in
+// the CAD (the least extent of its box) than half its plan diameter, throws InputError(cad_path, ...) saying so.
+void check_cad_units(const InspectionPlan& plan, const Scene& scene, const std::string& cad_path);
 
 // The whole inspection. `scan` is in the sensor's frame (mm); it is taken by value so that a caller that moves
 // it in lets it go right after outlier removal (peak memory, issue 8). Throws ProcessingError when registration
