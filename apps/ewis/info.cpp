@@ -50,15 +50,14 @@ Command add_info(CLI::App& root, CommonOptions& common) {
     // How far the scan is from a depth image seen from its origin, as the inspection assumes it is
     // (register/sensor_origin.hpp; on the raw scan, outliers included: a sensor-frame scan with 40 % outliers 0.31,
     // the same in CAD coordinates 1.0).
-    // A scan mostly at negative z looks along -z (a camera frame with y up, as OpenGL's): measured turned 180 deg
-    // about x, as `inspect` turns it (inspect/pipeline.hpp `InspectionResult::scan_to_sensor`).
-    std::size_t behind = 0;
-    for (const Eigen::Vector3f& p : file.cloud.points) behind += p.z() < 0.0f ? 1 : 0;
-    const bool minus_z = 2 * behind > file.cloud.points.size();
-    out["looks_along"] = minus_z ? "-z" : "+z";
-    if (minus_z) {
+    // Measured in the contract's camera frame, as `inspect` turns a scan written in another convention
+    // (register/sensor_origin.hpp `scan_convention`: "-z" with y up as OpenGL's, "+x" as a ROS body frame).
+    const ScanConvention convention = scan_convention(file.cloud.points);
+    out["looks_along"] = convention.looks_along;
+    if (!convention.turn.isIdentity()) {
       std::vector<Eigen::Vector3f> turned = file.cloud.points;
-      for (Eigen::Vector3f& p : turned) p = Eigen::Vector3f(p.x(), -p.y(), -p.z());
+      const Eigen::Matrix3f turn = convention.turn.cast<float>();
+      for (Eigen::Vector3f& p : turned) p = turn * p;
       out["occluded_from_origin"] = occluded_from_origin(turned);
     } else {
       out["occluded_from_origin"] = occluded_from_origin(file.cloud.points);

@@ -157,22 +157,25 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   report("filter", 1.0);
   clock.lap("filter");
 
-  // A scan whose points lie mostly at negative z was written in a camera frame looking along -z (x right, y up: as
-  // OpenGL's and Blender's cameras). The inspection takes the sensor looking along +z with y down (CONTRACT): such a
-  // scan is turned 180 deg about x for it, its initial pose with it; report.json's transform maps the scan as given.
-  // (Left as it was, it read as no depth image from its origin: 100 % of its points "behind" others on their ray.)
+  // A scan written in another camera convention than the contract's (z forward, y down): looking along -z with y up
+  // (OpenGL's, Blender's) or along +x with z up (a body frame, as ROS's camera_link; register/sensor_origin.hpp) is
+  // turned into it for the inspection, its initial pose with it; report.json's transform maps the scan as given.
+  // (Left as it was, a -z scan read as no depth image from its origin: 100 % of its points "behind" on their ray.)
   std::optional<Pose> initial = initial_scan_to_cad;
   {
-    std::size_t behind = 0;
-    for (const Eigen::Vector3f& p : filtered.points) behind += p.z() < 0.0f ? 1 : 0;
-    if (2 * behind > filtered.size()) {
-      res.scan_to_sensor.linear() = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
-      for (Eigen::Vector3f& p : filtered.points) p = Eigen::Vector3f(p.x(), -p.y(), -p.z());
-      for (Eigen::Vector3f& n : filtered.normals) n = Eigen::Vector3f(n.x(), -n.y(), -n.z());
-      if (initial) *initial = *initial * res.scan_to_sensor;  // (the turn is its own inverse)
-      res.warnings.push_back("the scan looks along -z (a camera frame with y up, as OpenGL's): turned 180 deg about x "
-                             "for the inspection, which takes z forward and y down; the reported transform maps the "
-                             "scan as given");
+    const ScanConvention convention = scan_convention(filtered.points);
+    if (!convention.turn.isIdentity()) {
+      res.scan_to_sensor.linear() = convention.turn;
+      const Eigen::Matrix3f turn = convention.turn.cast<float>();
+      for (Eigen::Vector3f& p : filtered.points) p = turn * p;
+      for (Eigen::Vector3f& n : filtered.normals) n = turn * n;
+      if (initial) *initial = *initial * res.scan_to_sensor.inverse();
+      res.warnings.push_back(std::string("the scan looks along ") + convention.looks_along +
+                             (std::string_view(convention.looks_along) == "-z"
+                                  ? " (a camera frame with y up, as OpenGL's)"
+                                  : " (a body frame: x forward, y left, z up, as ROS's camera_link)") +
+                             ": turned for the inspection, which takes z forward and y down; the reported transform "
+                             "maps the scan as given");
     }
   }
 

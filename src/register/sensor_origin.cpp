@@ -39,4 +39,25 @@ double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, std::siz
   return occluded_fraction(pick(points, evenly_strided(points.size(), max_points)), Pose::Identity(), 4.0, margin_mm);
 }
 
+ScanConvention scan_convention(const std::vector<Eigen::Vector3f>& points) {
+  ScanConvention c;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::size_t behind = 0;
+  for (const Eigen::Vector3f& p : points) {
+    const double n = p.cast<double>().norm();
+    if (n > 0) mean += p.cast<double>() / n;
+    behind += p.z() < 0.0f ? 1 : 0;
+  }
+  if (points.empty()) return c;
+  mean /= double(points.size());
+  if (mean.norm() > 0 && mean.x() > 0.7071 * mean.norm()) {
+    c.turn << 0, -1, 0, 0, 0, -1, 1, 0, 0;  // x forward, y left, z up -> z forward, x right, y down
+    c.looks_along = "+x";
+  } else if (2 * behind > points.size()) {
+    c.turn = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+    c.looks_along = "-z";
+  }
+  return c;
+}
+
 }  // namespace ewis

@@ -1,6 +1,7 @@
-"""A scan written in a camera frame looking along -z with y up (OpenGL's and Blender's convention) is inspected as the
-same scan in the contract's frame (z forward, y down): `inspect` turns it 180 deg about x (inspect/pipeline.hpp
-`InspectionResult::scan_to_sensor`), says so, and reports the transform of the scan as given. Before, it read as no
+"""A scan written in another camera convention than the contract's (z forward, x right, y down) is inspected as the
+same scan: looking along -z with y up (OpenGL's and Blender's) or along +x with z up (a body frame, as ROS's
+camera_link). `inspect` turns it (register/sensor_origin.hpp `scan_convention`, InspectionResult::scan_to_sensor),
+says so, and reports the transform of the scan as given; `ewis info` gives `looks_along`. Before, a -z scan read as no
 depth image from its origin (100 % of its points "behind" others on their ray), and every check along the sensor's
 rays was left out."""
 import array
@@ -14,31 +15,46 @@ from ewis_cli import run, tmpdir, validate
 from test_cad_winding import pose_error
 
 
-def to_gl_frame(src, dst):
-    """Writes the binary little-endian float x y z PLY `src` with y and z negated (180 deg about x)."""
+def read_xyz(src):
+    """The header and the float x y z of a binary little-endian PLY."""
     with open(src, "rb") as f:
         data = f.read()
     end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode()
-    assert "format binary_little_endian" in header and header.count("property") == 3, header
+    header = data[:end]
+    assert b"format binary_little_endian" in header and header.count(b"property") == 3, header
     xyz = array.array("f")
     xyz.frombytes(data[end:])
-    xyz[1::3] = array.array("f", (-v for v in xyz[1::3]))
-    xyz[2::3] = array.array("f", (-v for v in xyz[2::3]))
+    return header, xyz
+
+
+def write_turned(src, dst, axes):
+    """Writes the scan `src` with its coordinates (x, y, z) replaced by `axes`: three (index, sign) pairs."""
+    header, xyz = read_xyz(src)
+    out = array.array("f", bytes(len(xyz) * 4))
+    for k, (i, sign) in enumerate(axes):
+        out[k::3] = array.array("f", (sign * v for v in xyz[i::3]))
     with open(dst, "wb") as f:
-        f.write(data[:end])
-        f.write(xyz.tobytes())
+        f.write(header)
+        f.write(out.tobytes())
 
 
-def turned_pose(src, dst):
-    """The pose file `src` (scan to CAD) for the scan turned 180 deg about x: its second and third columns negated."""
+def turned_pose(src, dst, axes):
+    """The pose file `src` (scan to CAD) for the scan written by write_turned(axes): P R^T, R the turn."""
     with open(src) as f:
         m = [float(v) for v in f.read().split()]
+    # R maps given -> turned: turned[k] = sign_k * given[i_k]; P' = P R^T: column i_k of P' ... column k of P'
+    # is P's column i_k times sign_k.
+    out = [0.0] * 16
     for r in range(4):
-        m[4 * r + 1] = -m[4 * r + 1]
-        m[4 * r + 2] = -m[4 * r + 2]
+        out[4 * r + 3] = m[4 * r + 3]
+        for k, (i, sign) in enumerate(axes):
+            out[4 * r + k] = sign * m[4 * r + i]
     with open(dst, "w") as f:
-        f.write("\n".join(" ".join(repr(v) for v in m[4 * r:4 * r + 4]) for r in range(4)) + "\n")
+        f.write("\n".join(" ".join(repr(v) for v in out[4 * r:4 * r + 4]) for r in range(4)) + "\n")
+
+
+GL = ((0, 1), (1, -1), (2, -1))        # x right, y up, z backward (OpenGL, Blender)
+ROS_BODY = ((2, 1), (0, -1), (1, -1))  # x forward, y left, z up (ROS camera_link)
 
 
 class ScanConventions(unittest.TestCase):
@@ -68,42 +84,51 @@ class ScanConventions(unittest.TestCase):
         return [(e["name"], e["found"], [i["with"] for i in e.get("interferences", [])])
                 for e in report["elements"] if e.get("kind") == "cable"]
 
-    def test_a_scan_looking_along_minus_z_is_inspected_as_the_same_scan(self):
+    def given(self):
+        if not hasattr(type(self), "given_report"):
+            s = self.scene
+            type(self).given_report = self.inspect(os.path.join(s, "scan.ply"), os.path.join(s, "pose.txt"), "given")
+        return type(self).given_report
+
+    def assert_inspected_as_given(self, axes, name, looks_along):
         s = self.scene
-        gl_scan, gl_pose = os.path.join(self.dir, "scan_gl.ply"), os.path.join(self.dir, "pose_gl.txt")
-        to_gl_frame(os.path.join(s, "scan.ply"), gl_scan)
-        turned_pose(os.path.join(s, "pose.txt"), gl_pose)
-        given, given_err = self.inspect(os.path.join(s, "scan.ply"), os.path.join(s, "pose.txt"), "given")
-        gl, gl_err = self.inspect(gl_scan, gl_pose, "gl")
-        self.assertNotIn("looks along -z", given_err)
-        self.assertIn("looks along -z", gl_err)
-        self.assertNotIn("not a depth image", gl_err)
-        self.assertTrue(gl["scan"]["sensor_frame"])
-        self.assertEqual(gl["verdict"], given["verdict"])
-        self.assertEqual(self.findings(gl), self.findings(given))
-        # The reported transform maps the scan as given: the truth's, turned.
+        scan, pose = os.path.join(self.dir, f"scan_{name}.ply"), os.path.join(self.dir, f"pose_{name}.txt")
+        write_turned(os.path.join(s, "scan.ply"), scan, axes)
+        turned_pose(os.path.join(s, "pose.txt"), pose, axes)
+        given, given_err = self.given()
+        report, err = self.inspect(scan, pose, name)
+        self.assertNotIn("looks along", given_err)
+        self.assertIn(f"looks along {looks_along}", err)
+        self.assertNotIn("not a depth image", err)
+        self.assertTrue(report["scan"]["sensor_frame"])
+        self.assertEqual(report["verdict"], given["verdict"])
+        self.assertEqual(self.findings(report), self.findings(given))
+        # The reported transform maps the scan as given: the truth's, turned (its columns as the pose's).
         truth = dict(self.truth)
         t = truth["camera_to_cad"]
-        truth["camera_to_cad"] = [[row[0], -row[1], -row[2], row[3]] for row in t]
-        angle, offset = pose_error(gl, truth)
+        truth["camera_to_cad"] = [[sign * row[i] for i, sign in axes] + [row[3]] for row in t]
+        angle, offset = pose_error(report, truth)
         self.assertLess(angle, 0.05)
         self.assertLess(offset, 0.3)
-        for e_gl, e_given in zip(gl["elements"], given["elements"]):
-            if e_gl.get("kind") == "cable" and e_gl.get("min_bend_radius_mm") is not None:
-                self.assertAlmostEqual(e_gl["min_bend_radius_mm"], e_given["min_bend_radius_mm"],
+        for e, e_given in zip(report["elements"], given["elements"]):
+            if e.get("kind") == "cable" and e.get("min_bend_radius_mm") is not None:
+                self.assertAlmostEqual(e["min_bend_radius_mm"], e_given["min_bend_radius_mm"],
                                        delta=0.02 * e_given["min_bend_radius_mm"])
+        info = json.loads(run("info", "--scan", scan, check=0).stdout)
+        validate(info, "info.schema.json")
+        self.assertEqual(info["looks_along"], looks_along)
+        self.assertLess(info["occluded_from_origin"], 0.5)
 
-    def test_info_measures_it_turned(self):
-        s = self.scene
-        gl_scan = os.path.join(self.dir, "scan_gl_info.ply")
-        to_gl_frame(os.path.join(s, "scan.ply"), gl_scan)
-        given = json.loads(run("info", "--scan", os.path.join(s, "scan.ply"), check=0).stdout)
-        gl = json.loads(run("info", "--scan", gl_scan, check=0).stdout)
-        validate(gl, "info.schema.json")
-        self.assertEqual(given["looks_along"], "+z")
-        self.assertEqual(gl["looks_along"], "-z")
-        self.assertAlmostEqual(gl["occluded_from_origin"], given["occluded_from_origin"], delta=0.01)
-        self.assertLess(gl["occluded_from_origin"], 0.5)
+    def test_a_camera_frame_looking_along_minus_z_with_y_up(self):
+        self.assert_inspected_as_given(GL, "gl", "-z")
+
+    def test_a_body_frame_x_forward_z_up(self):
+        self.assert_inspected_as_given(ROS_BODY, "body", "+x")
+
+    def test_info_of_the_scan_as_given(self):
+        info = json.loads(run("info", "--scan", os.path.join(self.scene, "scan.ply"), check=0).stdout)
+        self.assertEqual(info["looks_along"], "+z")
+        self.assertLess(info["occluded_from_origin"], 0.5)
 
 if __name__ == "__main__":
     unittest.main()

@@ -84,5 +84,28 @@ TEST(SensorOrigin, ADepthImageTurnedOverInFrontOfTheOriginPasses) {
   EXPECT_LE(occluded_from_origin(moved(depth_image(5), T)), kNotSensorFrameFraction);
 }
 
+// The camera conventions: the contract's (z forward, y down), OpenGL's (-z forward, y up) and a ROS body frame (x
+// forward, y left, z up); each turned back into the contract's frame is the depth image again.
+TEST(SensorOrigin, TheCameraConventionIsReadAndTurnedBack) {
+  const std::vector<Eigen::Vector3f> image = depth_image(3);
+  const ScanConvention given = scan_convention(image);
+  EXPECT_STREQ(given.looks_along, "+z");
+  EXPECT_TRUE(given.turn.isIdentity());
+  const Eigen::Matrix3f gl = Eigen::Vector3f(1, -1, -1).asDiagonal();
+  Eigen::Matrix3f body;
+  body << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // x_body = z, y_body = -x, z_body = -y
+  for (const auto& [name, to] : {std::pair<const char*, Eigen::Matrix3f>{"-z", gl}, {"+x", body}}) {
+    std::vector<Eigen::Vector3f> written(image.size());
+    for (std::size_t i = 0; i < image.size(); ++i) written[i] = to * image[i];
+    const ScanConvention c = scan_convention(written);
+    EXPECT_STREQ(c.looks_along, name);
+    EXPECT_GT(occluded_from_origin(written), kNotSensorFrameFraction) << name;  // as written: no depth image
+    EXPECT_TRUE(c.turn.isApprox((to.transpose()).cast<double>())) << name;
+    std::vector<Eigen::Vector3f> back(written.size());
+    for (std::size_t i = 0; i < written.size(); ++i) back[i] = c.turn.cast<float>() * written[i];
+    EXPECT_LT(occluded_from_origin(back), 0.3) << name;
+  }
+}
+
 }  // namespace
 }  // namespace ewis

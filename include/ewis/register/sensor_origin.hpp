@@ -33,6 +33,16 @@ double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose&
 double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, std::size_t max_points = 20000,
                             double margin_mm = 10.0);
 
+// The camera convention a scan was written in, from where its points lie seen from the origin: "+z" (the contract's:
+// z forward, x right, y down), "-z" (OpenGL's and Blender's: y up; most points at negative z) or "+x" (a body frame:
+// x forward, y left, z up, as ROS's camera_link; the points' mean direction within 45 deg of +x). `turn` maps the
+// scan into the contract's frame (identity for "+z"; 180 deg about x for "-z").
+struct ScanConvention {
+  Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
+  const char* looks_along = "+z";
+};
+ScanConvention scan_convention(const std::vector<Eigen::Vector3f>& points);
+
 // Above this, a filtered scan is not in its sensor's frame (the campaign's: 12-17 %; in CAD coordinates: 99 %). Seen
 // from beside the scene, 30-60 deg off its sensor, the test scene of the unit tests reads only 15-16 %: the test
 // catches an origin inside or under the scene, not every wrong frame. Raw scans read higher (40 % outliers: 31 %).
