@@ -54,14 +54,7 @@ Command add_info(CLI::App& root, CommonOptions& common) {
     // (register/sensor_origin.hpp `scan_convention`: "-z" with y up as OpenGL's, "+x" as a ROS body frame).
     const ScanConvention convention = scan_convention(file.cloud.points);
     out["looks_along"] = convention.looks_along;
-    if (!convention.turn.isIdentity()) {
-      std::vector<Eigen::Vector3f> turned = file.cloud.points;
-      const Eigen::Matrix3f turn = convention.turn.cast<float>();
-      for (Eigen::Vector3f& p : turned) p = turn * p;
-      out["occluded_from_origin"] = occluded_from_origin(turned);
-    } else {
-      out["occluded_from_origin"] = occluded_from_origin(file.cloud.points);
-    }
+    out["occluded_from_origin"] = occluded_from_origin(file.cloud.points, convention);
     if (file.height > 1) {
       out["width"] = file.width;
       out["height"] = file.height;

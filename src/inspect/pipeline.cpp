@@ -170,11 +170,8 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
       for (Eigen::Vector3f& p : filtered.points) p = turn * p;
       for (Eigen::Vector3f& n : filtered.normals) n = turn * n;
       if (initial) *initial = *initial * res.scan_to_sensor.inverse();
-      res.warnings.push_back(std::string("the scan looks along ") + convention.looks_along +
-                             (std::string_view(convention.looks_along) == "-z"
-                                  ? " (a camera frame with y up, as OpenGL's)"
-                                  : " (a body frame: x forward, y left, z up, as ROS's camera_link)") +
-                             ": turned for the inspection, which takes z forward and y down; the reported transform "
+      res.warnings.push_back(std::string("the scan looks along ") + convention.looks_along + " (" + convention.frame +
+                             "): turned for the inspection, which takes z forward and y down; the reported transform "
                              "maps the scan as given");
     }
   }

@@ -35,8 +35,15 @@ double occluded_fraction(const std::vector<Eigen::Vector3f>& points, const Pose&
 }
 
 double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, std::size_t max_points, double margin_mm) {
+  return occluded_from_origin(points, ScanConvention{}, max_points, margin_mm);
+}
+
+double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, const ScanConvention& convention,
+                            std::size_t max_points, double margin_mm) {
   if (points.empty()) return 0.0;
-  return occluded_fraction(pick(points, evenly_strided(points.size(), max_points)), Pose::Identity(), 4.0, margin_mm);
+  Pose sensor_to_scan = Pose::Identity();
+  sensor_to_scan.linear() = convention.turn.transpose();  // (the turn maps the scan into the sensor's frame)
+  return occluded_fraction(pick(points, evenly_strided(points.size(), max_points)), sensor_to_scan, 4.0, margin_mm);
 }
 
 ScanConvention scan_convention(const std::vector<Eigen::Vector3f>& points) {
@@ -53,9 +60,11 @@ ScanConvention scan_convention(const std::vector<Eigen::Vector3f>& points) {
   if (mean.norm() > 0 && mean.x() > 0.7071 * mean.norm()) {
     c.turn << 0, -1, 0, 0, 0, -1, 1, 0, 0;  // x forward, y left, z up -> z forward, x right, y down
     c.looks_along = "+x";
+    c.frame = "a body frame: x forward, y left, z up, as ROS's camera_link";
   } else if (2 * behind > points.size()) {
     c.turn = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
     c.looks_along = "-z";
+    c.frame = "a camera frame with y up, as OpenGL's";
   }
   return c;
 }

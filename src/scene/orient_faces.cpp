@@ -156,9 +156,10 @@ ElementRepair orient_element(Scene& scene, std::size_t first, std::size_t count)
   release_memory(pairs);
 
   // Triangles whose reverse is there too (a surface written two-sided): such a pair is an open component's both sides
-  // already.
-  std::vector<std::uint8_t> has_twin(count, 0);
-  {
+  // already. Found when the first open component asks (a closed mesh never does).
+  std::vector<std::uint8_t> has_twin;
+  const auto find_twins = [&] {
+    has_twin.assign(count, 0);
     struct Corners {
       std::array<std::uint32_t, 3> key;  // welded corners, ascending
       bool odd;                          // wound as an odd permutation of them
@@ -188,7 +189,7 @@ ElementRepair orient_element(Scene& scene, std::size_t first, std::size_t count)
         for (std::size_t k = i; k < j; ++k) has_twin[corners[k].triangle] = 1;
       i = j;
     }
-  }
+  };
 
   // Components, each wound as its first triangle (breadth first, in index order: deterministic).
   constexpr std::uint8_t kUnset = 2;
@@ -238,6 +239,7 @@ ElementRepair orient_element(Scene& scene, std::size_t first, std::size_t count)
       ++out.open;
       invert = area_turned > area_kept;
       // (its other side added, unless every triangle of it has its reverse already)
+      if (has_twin.empty()) find_twins();
       const bool two_sided = std::all_of(members.begin(), members.end(), [&](std::uint32_t t) { return has_twin[t] != 0; });
       if (!two_sided) out.open_triangles.insert(out.open_triangles.end(), members.begin(), members.end());
     }

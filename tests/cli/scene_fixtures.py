@@ -5,10 +5,11 @@ import json
 import math
 import os
 import resource
+import shutil
 import struct
 import subprocess
 
-from ewis_cli import EWIS, write_ply_binary
+from ewis_cli import EWIS, run, tmpdir, validate, write_ply_binary
 
 NOT_AVAILABLE = "not available in this build yet"
 
@@ -175,3 +176,46 @@ def pcd(points, data="binary", count=None):
     raw = b"".join(struct.pack("<f", p[k]) for k in range(3) for p in points)
     comp = b"".join(bytes([len(raw[i:i + 32]) - 1]) + raw[i:i + 32] for i in range(0, len(raw), 32))
     return head + struct.pack("<II", len(comp), len(raw)) + comp
+
+
+# ------------------------------------------------------------------ the demo scene, simulated
+class SimulatedDemo:
+    """Test-class mixin: the README's demo scene (`ewis simulate --seed 7 --defect clearance`) simulated once per class
+    into a scratch folder (`scene`, with its `truth`), and `inspect` of it with any CAD, scan or pose."""
+    scratch = "demo"
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tmpdir(cls.scratch)
+        cls.scene = os.path.join(cls.dir, "scene")
+        run("simulate", "--out", cls.scene, "--seed", "7", "--defect", "clearance", "--quiet", check=0)
+        with open(os.path.join(cls.scene, "truth.json")) as f:
+            cls.truth = json.load(f)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.dir, ignore_errors=True)
+
+    def inspect_demo(self, name, cad=None, scan=None, pose=None):
+        """Inspects the scene (its own files where not given) into <scratch>/name: the schema-checked report.json
+        and the stderr."""
+        s, out = self.scene, os.path.join(self.dir, name)
+        proc = run("inspect", "--cad", cad or os.path.join(s, "scene.obj"), "--plan", os.path.join(s, "plan.json"),
+                   "--scan", scan or os.path.join(s, "scan.ply"), "--pose", pose or os.path.join(s, "pose.txt"),
+                   "--out", out, "--quiet", check=0)
+        with open(os.path.join(out, "report.json")) as f:
+            report = json.load(f)
+        validate(report, "report.schema.json")
+        return report, proc.stderr
+
+
+def pose_error(report, truth):
+    """Rotation (deg) and translation (mm) between the report's scan-to-CAD transform and the truth's."""
+    a = report["registration"]["transform"]
+    t = truth["camera_to_cad"]
+    t = [t[4 * i:4 * i + 4] for i in range(4)] if len(t) == 16 else t
+    # R_t^T R_a
+    trace = sum(t[k][i] * a[k][i] for i in range(3) for k in range(3))
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0))))
+    offset = math.sqrt(sum((a[i][3] - t[i][3]) ** 2 for i in range(3)))
+    return angle, offset

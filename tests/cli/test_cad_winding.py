@@ -1,15 +1,12 @@
 """A CAD whose faces are wound the other way (an exporter's convention, a solid written inside out, faces turned at
-random) is inspected as the same CAD wound outward: `load_scene` turns the faces outward (scene/orient_faces.hpp)
-and a warning says so. Before, the demo scene wound inside out was registered 1.36 m away upside down, its cables
+random) is inspected as the same CAD wound outward: `inspect` turns the rigid elements' faces outward
+(scene/orient_faces.hpp) and a warning says so. Before, the demo scene wound inside out was registered 1.36 m away upside down, its cables
 not found, with no warning."""
-import json
-import math
 import os
 import random
-import shutil
 import unittest
 
-from ewis_cli import run, tmpdir, validate
+from scene_fixtures import SimulatedDemo, pose_error
 
 
 def read_obj(path):
@@ -33,41 +30,17 @@ def write_obj_faces(lines, path, turn):
         f.write("\n".join(out))
 
 
-def pose_error(report, truth):
-    """Rotation (deg) and translation (mm) between the report's scan-to-CAD transform and the truth's."""
-    a = report["registration"]["transform"]
-    t = truth["camera_to_cad"]
-    t = [t[4 * i:4 * i + 4] for i in range(4)] if len(t) == 16 else t
-    # R_t^T R_a
-    trace = sum(t[k][i] * a[k][j] for i in range(3) for j in range(3) for k in range(3) if i == j)
-    angle = math.degrees(math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0))))
-    offset = math.sqrt(sum((a[i][3] - t[i][3]) ** 2 for i in range(3)))
-    return angle, offset
+class CadWinding(SimulatedDemo, unittest.TestCase):
+    scratch = "cad_winding"
 
-
-class CadWinding(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.dir = tmpdir("cad_winding")
-        cls.scene = os.path.join(cls.dir, "scene")
-        run("simulate", "--out", cls.scene, "--seed", "7", "--defect", "clearance", "--quiet", check=0)
-        with open(os.path.join(cls.scene, "truth.json")) as f:
-            cls.truth = json.load(f)
+        super().setUpClass()
         cls.lines = read_obj(os.path.join(cls.scene, "scene.obj"))
 
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.dir, ignore_errors=True)
-
     def inspect(self, cad, name):
-        out = os.path.join(self.dir, name)
-        s = self.scene
-        proc = run("inspect", "--cad", cad, "--plan", os.path.join(s, "plan.json"), "--scan",
-                   os.path.join(s, "scan.ply"), "--pose", os.path.join(s, "pose.txt"), "--out", out, "--quiet", check=0)
-        with open(os.path.join(out, "report.json")) as f:
-            report = json.load(f)
-        validate(report, "report.schema.json")
-        return report, [line for line in proc.stderr.splitlines() if "wound inside out" in line]
+        report, stderr = self.inspect_demo(name, cad=cad)
+        return report, [line for line in stderr.splitlines() if "wound inside out" in line]
 
     def assert_inspected_as_built(self, report):
         angle, offset = pose_error(report, self.truth)

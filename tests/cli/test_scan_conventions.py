@@ -6,13 +6,11 @@ depth image from its origin (100 % of its points "behind" others on their ray), 
 rays was left out."""
 import array
 import json
-import math
 import os
-import shutil
 import unittest
 
-from ewis_cli import run, tmpdir, validate
-from test_cad_winding import pose_error
+from ewis_cli import run, validate
+from scene_fixtures import SimulatedDemo, pose_error
 
 
 def read_xyz(src):
@@ -57,28 +55,8 @@ GL = ((0, 1), (1, -1), (2, -1))        # x right, y up, z backward (OpenGL, Blen
 ROS_BODY = ((2, 1), (0, -1), (1, -1))  # x forward, y left, z up (ROS camera_link)
 
 
-class ScanConventions(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.dir = tmpdir("scan_conventions")
-        cls.scene = os.path.join(cls.dir, "scene")
-        run("simulate", "--out", cls.scene, "--seed", "7", "--defect", "clearance", "--quiet", check=0)
-        with open(os.path.join(cls.scene, "truth.json")) as f:
-            cls.truth = json.load(f)
-
-    @classmethod
-    def tearDownClass(cls):
-        shutil.rmtree(cls.dir, ignore_errors=True)
-
-    def inspect(self, scan, pose, name):
-        out = os.path.join(self.dir, name)
-        s = self.scene
-        proc = run("inspect", "--cad", os.path.join(s, "scene.obj"), "--plan", os.path.join(s, "plan.json"), "--scan",
-                   scan, "--pose", pose, "--out", out, "--quiet", check=0)
-        with open(os.path.join(out, "report.json")) as f:
-            report = json.load(f)
-        validate(report, "report.schema.json")
-        return report, proc.stderr
+class ScanConventions(SimulatedDemo, unittest.TestCase):
+    scratch = "scan_conventions"
 
     def findings(self, report):
         return [(e["name"], e["found"], [i["with"] for i in e.get("interferences", [])])
@@ -87,7 +65,7 @@ class ScanConventions(unittest.TestCase):
     def given(self):
         if not hasattr(type(self), "given_report"):
             s = self.scene
-            type(self).given_report = self.inspect(os.path.join(s, "scan.ply"), os.path.join(s, "pose.txt"), "given")
+            type(self).given_report = self.inspect_demo("given")
         return type(self).given_report
 
     def assert_inspected_as_given(self, axes, name, looks_along):
@@ -96,7 +74,7 @@ class ScanConventions(unittest.TestCase):
         write_turned(os.path.join(s, "scan.ply"), scan, axes)
         turned_pose(os.path.join(s, "pose.txt"), pose, axes)
         given, given_err = self.given()
-        report, err = self.inspect(scan, pose, name)
+        report, err = self.inspect_demo(name, scan=scan, pose=pose)
         self.assertNotIn("looks along", given_err)
         self.assertIn(f"looks along {looks_along}", err)
         self.assertNotIn("not a depth image", err)

@@ -104,6 +104,7 @@ TEST(SensorOrigin, TheCameraConventionIsReadAndTurnedBack) {
     std::vector<Eigen::Vector3f> back(written.size());
     for (std::size_t i = 0; i < written.size(); ++i) back[i] = c.turn.cast<float>() * written[i];
     EXPECT_LT(occluded_from_origin(back), 0.3) << name;
+    EXPECT_NEAR(occluded_from_origin(written, c), occluded_from_origin(back), 0.01) << name;  // without turning
   }
 }
 

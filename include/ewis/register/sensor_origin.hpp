@@ -40,8 +40,14 @@ double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, std::siz
 struct ScanConvention {
   Eigen::Matrix3d turn = Eigen::Matrix3d::Identity();
   const char* looks_along = "+z";
+  const char* frame = "the contract's camera frame";  // in words, for warnings
 };
 ScanConvention scan_convention(const std::vector<Eigen::Vector3f>& points);
+
+// occluded_from_origin for a scan written in `convention`: seen from its origin along its viewing direction (as
+// `inspect` turns it), without turning the points.
+double occluded_from_origin(const std::vector<Eigen::Vector3f>& points, const ScanConvention& convention,
+                            std::size_t max_points = 20000, double margin_mm = 10.0);
 
 // Above this, a filtered scan is not in its sensor's frame (the campaign's: 12-17 %; in CAD coordinates: 99 %). Seen
 // from beside the scene, 30-60 deg off its sensor, the test scene of the unit tests reads only 15-16 %: the test
