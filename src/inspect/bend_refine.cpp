@@ -673,6 +673,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     // explains the narrower window's points about as well as that window's own fit and the two radii agree (see
     // FilletRefineParams::smooth_wide_*).
     const double h_wide = half_window(params.smooth_wide_max_half_window_diameters);
+    double h_used = h;  // the half window sf was fitted over
     if (params.smooth_wide_max_half_window_diameters > 0 && h_wide > 1.25 * h) {
       SmoothTubeFit wide;
       std::vector<Eigen::Vector3d> wide_pts;
@@ -690,6 +691,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
             std::abs(wide.bend_radius_mm - sf.bend_radius_mm) <= params.smooth_wide_max_z * sd) {
           sf = std::move(wide);
           pts.swap(wide_pts);
+          h_used = h_wide;
         }
       }
     }
@@ -789,6 +791,28 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const std::size_t top_bins = static_cast<std::size_t>(std::max(0, params.smooth_spread_top_bins));
       for (std::size_t k = 0; k < std::min(gains.size(), top_bins); ++k) top += std::max(0.0, gains[k]);
       if (!(ratio - 2.0 * top / sigma2 >= params.smooth_spread_min_log_likelihood_ratio)) return;
+    }
+    // Narrower windows around its peak, each taken where it reads clearly tighter (FilletRefineParams::smooth_narrow_*).
+    const double tube_tolerance = params.smooth_tube_radius_tolerance * tube_radius_mm;
+    const double h_min = params.smooth_narrow_min_half_window_diameters * diameter_mm;
+    for (int step = 0; step < params.smooth_narrow_max_steps && h_used > h_min * (1.0 + 1e-9); ++step) {
+      const double hn = std::max(params.smooth_narrow_factor * h_used, h_min);
+      const Neighbor nb = cl_tree.nearest(sf.peak_point.cast<float>());
+      SmoothTubeFit n;
+      std::vector<Eigen::Vector3d> n_pts;
+      if (nb.index == UINT32_MAX || !fit_window(arc[nb.index], hn, n, n_pts) ||
+          std::abs(n.peak_tau) > 0.8 * params.smooth_fit.peak_fraction)
+        break;
+      const double rn = n.bend_radius_mm, sn = n.bend_radius_se_mm, sw = sf.bend_radius_se_mm;
+      const double n_peak_arc = arc_of(n.peak_point);
+      const bool usable = std::isfinite(rn) && rn >= n.model.tube_radius_mm &&
+                          sn <= params.smooth_narrow_max_se_fraction * rn &&
+                          std::abs(n.model.tube_radius_mm - tube_radius_mm) <= tube_tolerance &&
+                          n_peak_arc >= end_reach && n_peak_arc <= total - end_reach;
+      const double sd = std::sqrt(std::max(sn * sn - sw * sw, 0.25 * sn * sn));
+      if (!usable || !(sf.bend_radius_mm - rn >= params.smooth_narrow_min_z * sd)) break;
+      sf = std::move(n);
+      h_used = hn;
     }
     o.smooth = true;
     o.smooth_fit = sf;

@@ -280,6 +280,20 @@ struct FilletRefineParams {
   double smooth_wide_max_log_likelihood_ratio = 25.0;
   double smooth_wide_max_z = 3.0;
   double smooth_min_log_likelihood_ratio = 25.0;
+  // A smooth tube taken (by the tests below) is fitted again over narrower windows around its peak, each
+  // smooth_narrow_factor times the last, down to smooth_narrow_min_half_window_diameters, at most smooth_narrow_max_steps
+  // times; a narrower one replaces the last where its radius is tighter by at least smooth_narrow_min_z standard errors
+  // of the difference (sqrt(se_narrow^2 - se_wide^2), at least se_narrow / 2, as for narrow_min_z), it is known to
+  // smooth_narrow_max_se_fraction, its tube within smooth_tube_radius_tolerance and its peak smooth_min_end_diameters
+  // from the run's ends. Why: a spline's curvature may peak within a diameter (S30 scene_017 cable_A, 12.8 mm: 53.6 mm
+  // at its peak, 64-70 mm 5 mm either side), and a quartic over +-0.5 R (here 2.5 d) averages it: noise-free, the
+  // quartic over the truth's centreline reads it 14.7 % high, over +-1 d 6.4 %. On an arc the narrower windows read
+  // the same radius. 0 steps: off.
+  int smooth_narrow_max_steps = 3;
+  double smooth_narrow_factor = 0.7;
+  double smooth_narrow_min_half_window_diameters = 1.0;
+  double smooth_narrow_min_z = 2.5;
+  double smooth_narrow_max_se_fraction = 0.035;
   // ... or of at least smooth_varying_min_log_likelihood_ratio (9: three standard errors) where the curvature
   // varies along the bend: the fillet refitted on the smooth tube's points (a narrower window) reads tighter than
   // the candidate's own fillet by at least smooth_varying_min_z of its standard errors. On an arc a fillet reads
