@@ -121,43 +121,51 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
     for (std::size_t b = 0, s = 0; s < plans[p].count; ++b, s += kBlock)
       items.push_back({p, s, std::min(plans[p].count, s + kBlock), b});
 
-  // Sample s of item k, handed to `emit(point, normal, element, triangle)`.
-  auto draw_item = [&](std::size_t k, const auto& emit) {
+  // Sample s of item k, handed to `emit(point, normal, element, triangle)`. Each sample takes three draws of its
+  // item's stream (SplitMix64 adds a constant per draw), so sample s is drawn alone from the stream's start moved
+  // by 3 (s - begin) steps: the same sample as in a pass over the whole item.
+  constexpr std::uint64_t kStep = 0x9E3779B97F4A7C15ull;  // SplitMix64's increment per draw
+  auto stream_of = [&](std::size_t k) {
     const Item& it = items[k];
-    const ElementPlan& p = plans[it.plan];
+    return SplitMix64{mix(mix(params.seed, static_cast<std::uint64_t>(plans[it.plan].element)), it.block)};
+  };
+  auto draw_sample = [&](std::size_t k, SplitMix64& rng, std::size_t s, const auto& emit) {
+    const ElementPlan& p = plans[items[k].plan];
     const Element& e = scene.elements[p.element];
-    SplitMix64 rng{mix(mix(params.seed, static_cast<std::uint64_t>(p.element)), it.block)};
-    const double total_area = p.cumulative.back();
-    for (std::size_t s = it.begin; s < it.end; ++s) {
-      // Triangle with probability proportional to its area: binary search in the cumulative areas.
-      const double pick = rng.uniform() * total_area;
-      std::size_t t = std::upper_bound(p.cumulative.begin(), p.cumulative.end(), pick) - p.cumulative.begin();
-      t = std::min(t, p.cumulative.size() - 1);
-      const std::uint32_t tri_index = e.first_triangle + static_cast<std::uint32_t>(t);
-      const Eigen::Vector3i& tri = scene.triangles[tri_index];
-      const Eigen::Vector3d a = scene.vertices[tri[0]].cast<double>();
-      const Eigen::Vector3d b = scene.vertices[tri[1]].cast<double>();
-      const Eigen::Vector3d c = scene.vertices[tri[2]].cast<double>();
-      // Uniform point in the triangle (Osada et al.): r1 = sqrt(u1) makes the density uniform.
-      const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
-      const Eigen::Vector3d q = (1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c;
-      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
-      emit(s, q.cast<float>(), n.cast<float>(), static_cast<std::uint32_t>(p.element), tri_index);
-    }
+    // Triangle with probability proportional to its area: binary search in the cumulative areas.
+    const double pick = rng.uniform() * p.cumulative.back();
+    std::size_t t = std::upper_bound(p.cumulative.begin(), p.cumulative.end(), pick) - p.cumulative.begin();
+    t = std::min(t, p.cumulative.size() - 1);
+    const std::uint32_t tri_index = e.first_triangle + static_cast<std::uint32_t>(t);
+    const Eigen::Vector3i& tri = scene.triangles[tri_index];
+    const Eigen::Vector3d a = scene.vertices[tri[0]].cast<double>();
+    const Eigen::Vector3d b = scene.vertices[tri[1]].cast<double>();
+    const Eigen::Vector3d c = scene.vertices[tri[2]].cast<double>();
+    // Uniform point in the triangle (Osada et al.): r1 = sqrt(u1) makes the density uniform.
+    const double r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
+    const Eigen::Vector3d q = (1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c;
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    emit(s, q.cast<float>(), n.cast<float>(), static_cast<std::uint32_t>(p.element), tri_index);
+  };
+  auto draw_item = [&](std::size_t k, const auto& emit) {
+    SplitMix64 rng = stream_of(k);
+    for (std::size_t s = items[k].begin; s < items[k].end; ++s) draw_sample(k, rng, s, emit);
   };
 
   MeshSamples out;
   if (params.keep) {
-    // Two passes over the same random streams: count what `keep` accepts per block, then write it at the
-    // block's offset (blocks in their order = the order of the full result). Memory: the kept samples only.
-    std::vector<std::size_t> offset(items.size() + 1, 0);
+    // Which samples `keep` accepts, per block (their offsets within it), then only those drawn again into their
+    // place (blocks in their order = the order of the full result). Memory: the kept samples and 4 bytes each.
+    std::vector<std::vector<std::uint32_t>> kept_in(items.size());
     parallel_for_each_index(items.size(), [&](std::size_t k) {
-      std::size_t n = 0;
-      draw_item(k, [&](std::size_t, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm, std::uint32_t,
-                       std::uint32_t) { n += params.keep(q, nrm); });
-      offset[k + 1] = n;
+      std::vector<std::uint32_t>& in = kept_in[k];
+      draw_item(k, [&](std::size_t s, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm, std::uint32_t,
+                       std::uint32_t) {
+        if (params.keep(q, nrm)) in.push_back(static_cast<std::uint32_t>(s - items[k].begin));
+      });
     }, 1);
-    for (std::size_t k = 0; k < items.size(); ++k) offset[k + 1] += offset[k];
+    std::vector<std::size_t> offset(items.size() + 1, 0);
+    for (std::size_t k = 0; k < items.size(); ++k) offset[k + 1] = offset[k] + kept_in[k].size();
     const std::size_t kept = offset.back();
     out.cloud.points.resize(kept);
     out.cloud.normals.resize(kept);
@@ -165,15 +173,18 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
     out.triangle.resize(kept);
     parallel_for_each_index(items.size(), [&](std::size_t k) {
       std::size_t o = offset[k];
-      draw_item(k, [&](std::size_t, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm, std::uint32_t element,
-                       std::uint32_t triangle) {
-        if (!params.keep(q, nrm)) return;
-        out.cloud.points[o] = q;
-        out.cloud.normals[o] = nrm;
-        out.element[o] = element;
-        out.triangle[o] = triangle;
-        ++o;
-      });
+      const SplitMix64 start = stream_of(k);
+      for (const std::uint32_t j : kept_in[k]) {
+        SplitMix64 rng{start.state + 3u * std::uint64_t(j) * kStep};
+        draw_sample(k, rng, items[k].begin + j, [&](std::size_t, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm,
+                                                   std::uint32_t element, std::uint32_t triangle) {
+          out.cloud.points[o] = q;
+          out.cloud.normals[o] = nrm;
+          out.element[o] = element;
+          out.triangle[o] = triangle;
+          ++o;
+        });
+      }
     }, 1);
     return out;
   }
