@@ -695,16 +695,18 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         }
       }
     }
-    const double R = sf.bend_radius_mm, se = sf.bend_radius_se_mm;
-    // Its peak away from the run's ends (FilletRefineParams::smooth_min_end_diameters).
-    const double peak_arc = arc_of(sf.peak_point);
+    const double R = sf.bend_radius_mm;
+    // A smooth fit that can stand for the bend: its radius known to `se_fraction`, its tube the run's (within
+    // smooth_tube_radius_tolerance) and its peak away from the run's ends (smooth_min_end_diameters).
     const double end_reach = params.smooth_min_end_diameters * diameter_mm;
-    const bool away_from_ends = peak_arc >= end_reach && peak_arc <= total - end_reach;
-    const bool smooth_usable = R <= 100.0 * diameter_mm && R >= sf.model.tube_radius_mm &&
-                               se <= params.max_se_fraction * R &&
-                               std::abs(sf.model.tube_radius_mm - tube_radius_mm) <=
-                                   params.smooth_tube_radius_tolerance * tube_radius_mm &&
-                               away_from_ends;
+    const auto usable = [&](const SmoothTubeFit& f, double se_fraction) {
+      const double peak_arc = arc_of(f.peak_point);
+      return f.bend_radius_mm <= 100.0 * diameter_mm && f.bend_radius_mm >= f.model.tube_radius_mm &&
+             f.bend_radius_se_mm <= se_fraction * f.bend_radius_mm &&
+             std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.smooth_tube_radius_tolerance * tube_radius_mm &&
+             peak_arc >= end_reach && peak_arc <= total - end_reach;
+    };
+    const bool smooth_usable = usable(sf, params.max_se_fraction);
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
     const std::vector<Eigen::Vector3d> over = over_chord(pts, sf.model);
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
@@ -793,7 +795,6 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (!(ratio - 2.0 * top / sigma2 >= params.smooth_spread_min_log_likelihood_ratio)) return;
     }
     // Narrower windows around its peak, each taken where it reads clearly tighter (FilletRefineParams::smooth_narrow_*).
-    const double tube_tolerance = params.smooth_tube_radius_tolerance * tube_radius_mm;
     const double h_min = params.smooth_narrow_min_half_window_diameters * diameter_mm;
     for (int step = 0; step < params.smooth_narrow_max_steps && h_used > h_min * (1.0 + 1e-9); ++step) {
       const double hn = std::max(params.smooth_narrow_factor * h_used, h_min);
@@ -803,14 +804,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       if (nb.index == UINT32_MAX || !fit_window(arc[nb.index], hn, n, n_pts) ||
           std::abs(n.peak_tau) > 0.8 * params.smooth_fit.peak_fraction)
         break;
-      const double rn = n.bend_radius_mm, sn = n.bend_radius_se_mm, sw = sf.bend_radius_se_mm;
-      const double n_peak_arc = arc_of(n.peak_point);
-      const bool usable = std::isfinite(rn) && rn >= n.model.tube_radius_mm &&
-                          sn <= params.smooth_narrow_max_se_fraction * rn &&
-                          std::abs(n.model.tube_radius_mm - tube_radius_mm) <= tube_tolerance &&
-                          n_peak_arc >= end_reach && n_peak_arc <= total - end_reach;
+      const double sn = n.bend_radius_se_mm, sw = sf.bend_radius_se_mm;
       const double sd = std::sqrt(std::max(sn * sn - sw * sw, 0.25 * sn * sn));
-      if (!usable || !(sf.bend_radius_mm - rn >= params.smooth_narrow_min_z * sd)) break;
+      if (!usable(n, params.smooth_narrow_max_se_fraction) ||
+          !(sf.bend_radius_mm - n.bend_radius_mm >= params.smooth_narrow_min_z * sd))
+        break;
       sf = std::move(n);
       h_used = hn;
     }
