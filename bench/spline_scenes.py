@@ -26,8 +26,10 @@ Each scene is then scanned by `ewis simulate --cad scene.obj --plan plan.json --
 --scene-truth scene_truth.json` (the project's scanner: noise along the rays, 40 % outliers, a perturbed
 pose.txt), which writes truth.json with the camera pose. Evaluate with `ewis evaluate --campaign OUT`.
 
+With --hoses the tubes are hoses of 18-30 mm instead of cables of 4-13 mm (EWIS hoses: their bends of 3-5 d are long
+in millimetres, and often begin right at a clamp or connector).
 Usage: spline_scenes.py --ewis build/bin/ewis --out DIR [--scenes 20] [--first 0] [--seed 1] [--deviation-mm 6] [--bundle]
-                        [--noise-mm 0.2] [--outliers 0.4]
+                        [--hoses] [--noise-mm 0.2] [--outliers 0.4]
 """
 import argparse
 import json
@@ -208,7 +210,11 @@ def look_at(eye, target, up):
     return m
 
 
-def make_scene(rng, index, deviation_mm, bundle=0, sides=32):
+# --hoses: the diameters drawn instead (mm, each +- 0.3): hoses, whose bends of 3-5 d are long in millimetres
+HOSES = [18.0, 22.0, 26.0, 30.0]
+
+
+def make_scene(rng, index, deviation_mm, bundle=0, sides=32, hoses=False):
     plate_half = np.array([300.0, 200.0, 3.0])
     rigid = [("structure", (np.array([0, 0, -3.0]), np.eye(3), plate_half))]
     # ribs along the long edges, a cross rib at each end, blocks in two corners: features in every direction
@@ -232,7 +238,7 @@ def make_scene(rng, index, deviation_mm, bundle=0, sides=32):
     for c in range(ncables):
         name = "cable_" + "ABC"[c]
         for attempt in range(200):
-            d = float(rng.choice([4.0, 5.5, 7.0, 9.0, 11.0, 13.0]) + rng.uniform(-0.3, 0.3))
+            d = float(rng.choice(HOSES if hoses else [4.0, 5.5, 7.0, 9.0, 11.0, 13.0]) + rng.uniform(-0.3, 0.3))
             r = d / 2
             n_ctrl = int(rng.integers(6, 9))
             xs = np.linspace(-230, 230, n_ctrl) + np.concatenate([[0], rng.uniform(-25, 25, n_ctrl - 2), [0]])
@@ -463,6 +469,8 @@ def main():
     ap.add_argument("--outliers", type=float, default=None)
     ap.add_argument("--bundle", type=int, nargs="?", const=2, default=0, choices=[2, 3],
                     help="2 or 3 cables side by side (touching or nearly in odd scenes: clearance defects)")
+    ap.add_argument("--hoses", action="store_true",
+                    help="hoses of 18-30 mm instead of cables of 4-13 mm (not with --bundle)")
     ap.add_argument("--sides", type=int, default=32,
                     help="sides of each cable's mesh (a coarse CAD export: 8-12; the truth keeps the vertices' radius)")
     a = ap.parse_args()
@@ -471,7 +479,7 @@ def main():
         rng = np.random.default_rng([a.seed, i])
         made = None
         while made is None:
-            made = make_scene(rng, i, a.deviation_mm, a.bundle, a.sides)
+            made = make_scene(rng, i, a.deviation_mm, a.bundle, a.sides, a.hoses)
         rigid_objs, nominal_objs, built_objs, plan, truth = made
         src = os.path.join(a.out, "scene_%03d_cad" % i)
         dst = os.path.join(a.out, "scene_%03d" % i)

@@ -468,10 +468,11 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
       const Eigen::Vector3d &p_lo = first_low ? p1 : p2, &p_hi = first_low ? p2 : p1;
       const Eigen::Vector3d &leg_lo = first_low ? o.fit.model.leg1 : o.fit.model.leg2,
                             &leg_hi = first_low ? o.fit.model.leg2 : o.fit.model.leg1;
-      // Refused, the candidate as a whole (its smooth tube too: its window cuts the bend; another's holds it).
+      // Refused as a fillet reading: its window cuts the bend (another's may hold it). The fit stays as the rival of
+      // the candidate's smooth tube, which is tried where no other fillet holds the place
+      // (FilletRefineParams::smooth_cut_unheld).
       if (t1 >= 0 && t2 >= 0 && lo > o.s0 && hi < o.s1 &&
           (unseen(lo, o.s0, p_lo, leg_lo, p_hi) || unseen(hi, o.s1, p_hi, leg_hi, p_lo))) {
-        o = Outcome{};
         o.cut = true;
         return;
       }
@@ -612,6 +613,19 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
   // A smooth tube over the candidate (see FilletRefineParams::smooth), against the fillet on the same points.
   const auto smooth_candidate = [&](const BendSample& p, Outcome& o) {
     if (!o.init) return;  // no fillet to weigh the smooth tube against
+    if (o.cut) {
+      if (!params.smooth_cut_unheld) return;
+      // Refused for a leg unseen: the smooth tube only where no other candidate's fillet reading (as the fillets
+      // stand, before any smooth tube) holds the place between its tangent points, a diameter either side.
+      for (std::size_t j = 0; j < outcomes.size(); ++j) {
+        const Outcome& l = outcomes[j];
+        if (&l == &o || !l.ok || l.bound || l.cut) continue;
+        const auto [p1, p2] = fillet_tangent_points(l.fit.model);
+        const double t1 = arc_of(p1), t2 = arc_of(p2);
+        if (t1 >= 0 && t2 >= 0 && p.arc_mm >= std::min(t1, t2) - diameter_mm && p.arc_mm <= std::max(t1, t2) + diameter_mm)
+          return;
+      }
+    }
     double rc = p.radius_mm;
     if (o.fit.ok && std::isfinite(o.fit.model.bend_radius_mm)) rc = std::min(rc, o.fit.model.bend_radius_mm);
     // +-smooth_window_radius_fraction x rc, at least smooth_min_half_window_diameters, at most max_diameters
@@ -717,7 +731,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     const double smooth_cost = smooth_tube_robust_cost(over, sf.model, c);
     // The fillet over the narrower window where it reads clearly tighter (see FilletRefineParams::narrow_min_z).
     std::optional<FilletFit> rival_early;
-    if (params.narrow_min_z > 0 && fillet_shaped && o.fit.ok && !o.bound) {
+    if (params.narrow_min_z > 0 && fillet_shaped && o.fit.ok && !o.bound && !o.cut) {
       rival_early = fit_fillet(over, start, params.fit);
       FilletFit n = *rival_early;
       // A fit stopped by its iteration limit with its radius settled (a flat direction of the vertex or a leg

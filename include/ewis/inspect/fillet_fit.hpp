@@ -315,6 +315,16 @@ struct FilletRefineParams {
   // sets evaluated only one other reading moved: S25x scene_016's cable_B, whose two smooth readings near its run's
   // start were both imprecise (116.51 +- 6.96 at 0.95 d, taken before; 123.35 +- 5.19 at 1.1 d; truth 115.90).
   double smooth_min_end_diameters = 1.0;
+  // A candidate whose fillet is refused for a leg unseen (min_seen_leg_diameters: its window cuts the bend) still has
+  // its smooth tube tried, weighed against that fillet as above, where no other candidate's fillet reading holds the
+  // place (between its tangent points, a diameter either side); where one does, the candidate is left out whole, as
+  // before (a smooth tube over an arc's onset read N scene_050's 88 mm arc at 80.1 where another window's fillet held
+  // it at 88.13). Why: a short run that is one smooth bend (a hose between two clamps) leaves no window with both legs
+  // seen, and the circle windows' average stood: bench/spline_scenes.py with hoses of 18-30 mm (32 scenes made for the
+  // fortieth session), a 30.2 mm hose's 95.24 mm peak on a run of 128 mm read 113.59 -> 96.02 +- 0.45, and 143.16 read
+  // 190.03 -> 141.18; S30 scene_018 cable_A 152.33 -> 146.65 for 147.59; no other report of C (140), H40, S30, S20 or
+  // B20 moved. false: refused whole.
+  bool smooth_cut_unheld = true;
   // ... and, where the fillet refitted as a helix (FilletModel::tilt_rad free) on the same points fits about as well
   // as the smooth tube (likelihood ratio under smooth_tilted_max_log_likelihood_ratio: the quartic has one parameter
   // more, so a helical bend gives about 1), only where the curvature varies as the helices read it: the helix on the
