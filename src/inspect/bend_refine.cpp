@@ -711,16 +711,31 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
     }
     const double R = sf.bend_radius_mm;
     // A smooth fit that can stand for the bend: its radius known to `se_fraction`, its tube the run's (within
-    // smooth_tube_radius_tolerance) and its peak away from the run's ends (smooth_min_end_diameters).
+    // smooth_tube_radius_tolerance), its peak away from the run's ends (smooth_min_end_diameters) and seen on both
+    // sides (smooth_peak_seen_*) by its points `fp`.
     const double end_reach = params.smooth_min_end_diameters * diameter_mm;
-    const auto usable = [&](const SmoothTubeFit& f, double se_fraction) {
+    const auto peak_seen = [&](const SmoothTubeFit& f, const std::vector<Eigen::Vector3d>& fp) {
+      if (!(params.smooth_peak_seen_fraction > 0)) return true;
+      const double side = params.smooth_peak_seen_diameters * diameter_mm;
+      std::size_t over = 0, before = 0, after = 0;
+      for (const Eigen::Vector3d& x : fp) {
+        if (!f.model.over_chord(x)) continue;
+        ++over;
+        const double a = f.model.u.dot(x - f.peak_point);
+        before += a > -side && a <= 0.0;
+        after += a > 0.0 && a < side;
+      }
+      const double expected = double(over) * side / (2.0 * f.model.half_chord_mm);
+      return double(std::min(before, after)) >= params.smooth_peak_seen_fraction * expected;
+    };
+    const auto usable = [&](const SmoothTubeFit& f, const std::vector<Eigen::Vector3d>& fp, double se_fraction) {
       const double peak_arc = arc_of(f.peak_point);
       return f.bend_radius_mm <= 100.0 * diameter_mm && f.bend_radius_mm >= f.model.tube_radius_mm &&
              f.bend_radius_se_mm <= se_fraction * f.bend_radius_mm &&
              std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.smooth_tube_radius_tolerance * tube_radius_mm &&
-             peak_arc >= end_reach && peak_arc <= total - end_reach;
+             peak_arc >= end_reach && peak_arc <= total - end_reach && peak_seen(f, fp);
     };
-    const bool smooth_usable = usable(sf, params.max_se_fraction);
+    const bool smooth_usable = usable(sf, pts, params.max_se_fraction);
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
     const std::vector<Eigen::Vector3d> over = over_chord(pts, sf.model);
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
@@ -820,7 +835,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
         break;
       const double sn = n.bend_radius_se_mm, sw = sf.bend_radius_se_mm;
       const double sd = std::sqrt(std::max(sn * sn - sw * sw, 0.25 * sn * sn));
-      if (!usable(n, params.smooth_narrow_max_se_fraction) ||
+      if (!usable(n, n_pts, params.smooth_narrow_max_se_fraction) ||
           !(sf.bend_radius_mm - n.bend_radius_mm >= params.smooth_narrow_min_z * sd))
         break;
       sf = std::move(n);
