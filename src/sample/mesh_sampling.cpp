@@ -15,14 +15,17 @@ namespace {
 // splitmix64: a tiny, well-mixed generator whose output is the same on every platform and library
 // (std::uniform_real_distribution is not specified bit for bit).
 struct SplitMix64 {
+  static constexpr std::uint64_t kIncrement = 0x9E3779B97F4A7C15ull;  // the state's step per draw
   std::uint64_t state;
   std::uint64_t next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    std::uint64_t z = (state += kIncrement);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
   }
   double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1)
+  // The generator as it stands `draws` draws later (the state only adds a constant per draw).
+  SplitMix64 skipped(std::uint64_t draws) const { return {state + draws * kIncrement}; }
 };
 
 std::uint64_t mix(std::uint64_t a, std::uint64_t b) {
@@ -121,10 +124,10 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
     for (std::size_t b = 0, s = 0; s < plans[p].count; ++b, s += kBlock)
       items.push_back({p, s, std::min(plans[p].count, s + kBlock), b});
 
-  // Sample s of item k, handed to `emit(point, normal, element, triangle)`. Each sample takes three draws of its
-  // item's stream (SplitMix64 adds a constant per draw), so sample s is drawn alone from the stream's start moved
-  // by 3 (s - begin) steps: the same sample as in a pass over the whole item.
-  constexpr std::uint64_t kStep = 0x9E3779B97F4A7C15ull;  // SplitMix64's increment per draw
+  // Sample s of item k, handed to `emit(point, normal, element, triangle)`. Each sample takes kDrawsPerSample draws
+  // of its item's stream, so sample s is drawn alone from the stream's start skipped by that many per sample before
+  // it: the same sample as in a pass over the whole item.
+  constexpr std::uint64_t kDrawsPerSample = 3;  // the triangle, then the point in it (two)
   auto stream_of = [&](std::size_t k) {
     const Item& it = items[k];
     return SplitMix64{mix(mix(params.seed, static_cast<std::uint64_t>(plans[it.plan].element)), it.block)};
@@ -175,7 +178,7 @@ MeshSamples sample_mesh(const Scene& scene, const MeshSamplingParams& params) {
       std::size_t o = offset[k];
       const SplitMix64 start = stream_of(k);
       for (const std::uint32_t j : kept_in[k]) {
-        SplitMix64 rng{start.state + 3u * std::uint64_t(j) * kStep};
+        SplitMix64 rng = start.skipped(kDrawsPerSample * j);
         draw_sample(k, rng, items[k].begin + j, [&](std::size_t, const Eigen::Vector3f& q, const Eigen::Vector3f& nrm,
                                                    std::uint32_t element, std::uint32_t triangle) {
           out.cloud.points[o] = q;
