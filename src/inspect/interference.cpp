@@ -13,6 +13,7 @@
 #include "ewis/core/robust.hpp"
 #include "ewis/filter/euclidean_clusters.hpp"
 #include "ewis/filter/normals.hpp"
+#include "ewis/filter/ray_neighbours.hpp"
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/tubes/cylinder_fit.hpp"
 
@@ -167,6 +168,27 @@ bool is_veil(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint
   if (widths.empty()) return true;  // no pixel with neighbours: a scatter of rays, no surface
   const double width = median_in_place(widths);
   return width <= std::max(params.veil_max_width_mm, params.veil_max_width_res * params.resolution_mm);
+}
+
+// See InterferenceParams::float_min_same: most of the cluster's points float: the rays next to theirs hold almost
+// nothing at their range, and not a surface on both sides of it.
+bool is_floating(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint32_t>& pts,
+                 const InterferenceParams& params) {
+  if (params.float_min_same == 0 || pts.empty()) return false;
+  RayNeighbourParams rp;
+  rp.lateral_mm = params.float_lateral_res * std::max(params.resolution_mm, 1e-3);
+  rp.tolerance_mm = params.float_range_tolerance_mm;
+  rp.reach_mm = params.float_reach_mm;
+  const std::size_t stride = std::max<std::size_t>(1, pts.size() / std::max<std::size_t>(1, params.float_samples));
+  std::size_t sampled = 0, floating = 0;
+  std::vector<Neighbor> scratch;
+  for (std::size_t k = 0; k < pts.size(); k += stride) {
+    ++sampled;
+    const RayNeighbours n = ray_neighbours(tree, cloud.points, pts[k], cloud.points[pts[k]].cast<double>(),
+                                           params.sensor_position, rp, scratch);
+    floating += n.same < params.float_min_same && std::min(n.front, n.behind) < params.float_min_sides;
+  }
+  return double(floating) >= params.float_fraction * double(sampled);
 }
 
 // A cluster lying over a bridged break (most of its points nearest a bridge segment) that is a tube of the cable's
@@ -574,6 +596,7 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
           }
           continue;
         }
+        if (is_floating(tree, cloud, pts, params)) continue;  // wrong ranges about a surface, no surface of their own
       }
       if (chain.size() > me.chain.size() && is_own_untraced_stretch(cloud, pts, chain, me.chain.size(), r, params))
         continue;
