@@ -21,6 +21,7 @@
 
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
+#include "ewis/filter/ray_neighbours.hpp"
 #include "ewis/register/free_space.hpp"
 #include "ewis/register/veil_points.hpp"
 #include "ewis/search/spatial_sort.hpp"
@@ -45,29 +46,48 @@ struct ScanSurfaces {
 
 // The fitness over the points of `inside` (subsample indices) on the scan's surfaces: a point's 4th nearest neighbour
 // in the whole scan within spacing_factor x the median of that distance over `inside` (the point itself, in the
-// scan too, is its own nearest). -1: not measurable (too few points).
+// scan too, is its own nearest), and with a viewpoint, at least min_same other points at its range on the rays next to
+// its own (ScanToCadParams::box_surface_min_same). -1: not measurable (too few points).
 double fitness_on_surfaces(const std::vector<Eigen::Vector3f>& scan, const std::vector<std::uint32_t>& inside,
                            ScanSurfaces& surfaces, const Cloud& target, const KdTree& target_tree, const Pose& pose,
-                           double inlier_distance_mm, double spacing_factor) {
+                           double inlier_distance_mm, double spacing_factor, const Eigen::Vector3d* viewpoint,
+                           std::size_t min_same) {
   constexpr int kNeighbours = 5;  // itself and 4 others
   if (!surfaces.all || surfaces.all->size() < kNeighbours || inside.empty()) return -1.0;
   if (!surfaces.tree) surfaces.tree = std::make_unique<KdTree>(*surfaces.all);
   const KdTree& tree = *surfaces.tree;
-  std::vector<float> spacing(inside.size());
+  std::vector<float> spacing(inside.size()), nearest(inside.size());
   parallel_blocks(inside.size(), 1024, [&](std::size_t begin, std::size_t end) {
     std::vector<Neighbor> nn;
     for (std::size_t j = begin; j < end; ++j) {
       tree.knn(scan[inside[j]], kNeighbours, nn);
-      spacing[j] = nn.size() == kNeighbours ? std::sqrt(nn.back().distance_sq) : std::numeric_limits<float>::infinity();
+      const bool full = nn.size() == kNeighbours;
+      spacing[j] = full ? std::sqrt(nn.back().distance_sq) : std::numeric_limits<float>::infinity();
+      nearest[j] = full ? std::sqrt(nn[1].distance_sq) : std::numeric_limits<float>::infinity();
     }
   });
-  std::vector<float> sorted = spacing;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-  const double limit = spacing_factor * sorted[sorted.size() / 2];
+  const auto median = [](std::vector<float> v) {
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return double(v[v.size() / 2]);
+  };
+  const double limit = spacing_factor * median(spacing);
+  std::vector<std::uint8_t> on_surface(inside.size(), 0);
+  const bool by_rays = viewpoint && min_same > 0;
+  RayNeighbourParams rp;
+  if (by_rays) rp.lateral_mm = 1.5 * median(nearest);
+  parallel_blocks(inside.size(), 1024, [&](std::size_t begin, std::size_t end) {
+    std::vector<Neighbor> scratch;
+    for (std::size_t j = begin; j < end; ++j) {
+      if (!(spacing[j] <= limit)) continue;
+      // the point is in the whole scan too: it counts at its own range
+      on_surface[j] = !by_rays || ray_neighbours(tree, *surfaces.all, ~0u, scan[inside[j]].cast<double>(), *viewpoint,
+                                                 rp, scratch).same >= min_same + 1;
+    }
+  });
   std::vector<std::uint32_t> on;
   on.reserve(inside.size());
   for (std::size_t j = 0; j < inside.size(); ++j)
-    if (spacing[j] <= limit) on.push_back(inside[j]);
+    if (on_surface[j]) on.push_back(inside[j]);
   if (on.empty()) return -1.0;
   return evaluate_registration(scan, target, target_tree, pose, inlier_distance_mm, on).fitness;
 }
@@ -232,7 +252,8 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
                             .fitness;
     if (surfaces && params.box_surface_only && run.box_fitness < params.box_trusted_fitness) {
       const double on = fitness_on_surfaces(scan, inside, *surfaces, *view.cloud, *view.tree, run.reg.source_to_target,
-                                            run.reg.inlier_distance_mm, params.box_surface_spacing_factor);
+                                            run.reg.inlier_distance_mm, params.box_surface_spacing_factor,
+                                            cull ? &params.icp.source_viewpoint : nullptr, params.box_surface_min_same);
       if (on >= 0.0) run.box_fitness = on;
     }
   }
