@@ -735,7 +735,7 @@ int refine_bends_with_fillets(BendRadiusResult& bend, const std::vector<Eigen::V
              std::abs(f.model.tube_radius_mm - tube_radius_mm) <= params.smooth_tube_radius_tolerance * tube_radius_mm &&
              peak_arc >= end_reach && peak_arc <= total - end_reach && peak_seen(f, fp);
     };
-    const bool smooth_usable = usable(sf, pts, params.max_se_fraction);
+    const bool smooth_usable = usable(sf, pts, std::min(params.max_se_fraction, params.smooth_max_se_fraction));
     // The fillet on the same points (those over the smooth tube's chord), from its own fit when it has one.
     const std::vector<Eigen::Vector3d> over = over_chord(pts, sf.model);
     const bool fillet_shaped = std::isfinite(o.fit.model.bend_radius_mm) && o.fit.model.turn_rad() > 1e-3 &&
