@@ -6,9 +6,9 @@
 
 namespace ewis {
 
-RayNeighbours ray_neighbours(const KdTree& tree, const std::vector<Eigen::Vector3f>& points, std::uint32_t self,
-                             const Eigen::Vector3d& p, const Eigen::Vector3d& viewpoint,
-                             const RayNeighbourParams& params, std::vector<Neighbor>& scratch) {
+RayNeighbours ray_neighbours(const KdTree& tree, std::uint32_t self, const Eigen::Vector3d& p,
+                             const Eigen::Vector3d& viewpoint, const RayNeighbourParams& params,
+                             std::vector<Neighbor>& scratch) {
   RayNeighbours out;
   const Eigen::Vector3d ray = p - viewpoint;
   if (!(ray.norm() > 0)) return out;
@@ -18,7 +18,7 @@ RayNeighbours ray_neighbours(const KdTree& tree, const std::vector<Eigen::Vector
   tree.radius_unsorted(p.cast<float>(), float(std::hypot(reach, params.lateral_mm)), scratch);
   for (const Neighbor& n : scratch) {
     if (n.index == self) continue;
-    const Eigen::Vector3d d = points[n.index].cast<double>() - p;
+    const Eigen::Vector3d d = tree.points()[n.index].cast<double>() - p;
     const double along = d.dot(u);
     if (std::abs(along) > reach || (d - along * u).squaredNorm() > lateral_sq) continue;
     if (along > params.tolerance_mm)

@@ -184,8 +184,8 @@ bool is_floating(const KdTree& tree, const Cloud& cloud, const std::vector<std::
   std::vector<Neighbor> scratch;
   for (std::size_t k = 0; k < pts.size(); k += stride) {
     ++sampled;
-    const RayNeighbours n = ray_neighbours(tree, cloud.points, pts[k], cloud.points[pts[k]].cast<double>(),
-                                           params.sensor_position, rp, scratch);
+    const RayNeighbours n =
+        ray_neighbours(tree, pts[k], cloud.points[pts[k]].cast<double>(), params.sensor_position, rp, scratch);
     floating += n.same < params.float_min_same && std::min(n.front, n.behind) < params.float_min_sides;
   }
   return double(floating) >= params.float_fraction * double(sampled);

@@ -80,8 +80,8 @@ double fitness_on_surfaces(const std::vector<Eigen::Vector3f>& scan, const std::
     for (std::size_t j = begin; j < end; ++j) {
       if (!(spacing[j] <= limit)) continue;
       // the point is in the whole scan too: it counts at its own range
-      on_surface[j] = !by_rays || ray_neighbours(tree, *surfaces.all, ~0u, scan[inside[j]].cast<double>(), *viewpoint,
-                                                 rp, scratch).same >= min_same + 1;
+      on_surface[j] = !by_rays || ray_neighbours(tree, ~0u, scan[inside[j]].cast<double>(), *viewpoint, rp, scratch)
+                                          .same >= min_same + 1;
     }
   });
   std::vector<std::uint32_t> on;

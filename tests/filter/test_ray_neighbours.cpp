@@ -36,22 +36,22 @@ TEST(RayNeighbours, ASurfaceGoesOnAtItsRangeAFloatingPointHasItBehind) {
   ASSERT_LT((level[centre] - Eigen::Vector3f::Zero()).norm(), 1e-6f);
   {
     const KdTree tree(level);
-    const RayNeighbours on = ray_neighbours(tree, level, centre, level[centre].cast<double>(), eye, p, scratch);
+    const RayNeighbours on = ray_neighbours(tree, centre, level[centre].cast<double>(), eye, p, scratch);
     EXPECT_EQ(on.same, 8u);
     EXPECT_EQ(on.front, 0u);
     EXPECT_EQ(on.behind, 0u);
-    const RayNeighbours over = ray_neighbours(tree, level, ~0u, Eigen::Vector3d(0.1, 0.1, 2.0), eye, p, scratch);
+    const RayNeighbours over = ray_neighbours(tree, ~0u, Eigen::Vector3d(0.1, 0.1, 2.0), eye, p, scratch);
     EXPECT_EQ(over.same, 0u);
     EXPECT_EQ(over.front, 0u);
     EXPECT_GE(over.behind, 4u);
     p.reach_mm = 1.5;  // the plane is beyond the reach along the ray
-    EXPECT_EQ(ray_neighbours(tree, level, ~0u, Eigen::Vector3d(0.1, 0.1, 2.0), eye, p, scratch).behind, 0u);
+    EXPECT_EQ(ray_neighbours(tree, ~0u, Eigen::Vector3d(0.1, 0.1, 2.0), eye, p, scratch).behind, 0u);
     p.reach_mm = 5.0;
   }
   const double tilt = 70.0 * M_PI / 180.0;
   std::vector<Eigen::Vector3f> steep = plane_grid(Eigen::Vector3d(std::sin(tilt), 0.0, std::cos(tilt)));
   const KdTree tree(steep);
-  const RayNeighbours s = ray_neighbours(tree, steep, centre, steep[centre].cast<double>(), eye, p, scratch);
+  const RayNeighbours s = ray_neighbours(tree, centre, steep[centre].cast<double>(), eye, p, scratch);
   EXPECT_GE(s.same, 2u);
   EXPECT_GE(s.front, 2u);
   EXPECT_GE(s.behind, 2u);

@@ -27,9 +27,9 @@ struct RayNeighbours {
   std::size_t behind = 0;  // farther
 };
 
-// `points` are the ones `tree` was built on; `self` (an index into them, or ~0u) is not counted. `scratch` is reused.
-RayNeighbours ray_neighbours(const KdTree& tree, const std::vector<Eigen::Vector3f>& points, std::uint32_t self,
-                             const Eigen::Vector3d& p, const Eigen::Vector3d& viewpoint,
-                             const RayNeighbourParams& params, std::vector<Neighbor>& scratch);
+// Over the tree's points; `self` (an index into them, or ~0u) is not counted. `scratch` is reused.
+RayNeighbours ray_neighbours(const KdTree& tree, std::uint32_t self, const Eigen::Vector3d& p,
+                             const Eigen::Vector3d& viewpoint, const RayNeighbourParams& params,
+                             std::vector<Neighbor>& scratch);
 
 }  // namespace ewis
