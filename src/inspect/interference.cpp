@@ -170,23 +170,33 @@ bool is_veil(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint
   return width <= std::max(params.veil_max_width_mm, params.veil_max_width_res * params.resolution_mm);
 }
 
-// See InterferenceParams::float_min_same: most of the cluster's points float: the rays next to theirs hold almost
-// nothing at their range, and not a surface on both sides of it.
+// See InterferenceParams::float_*: most of the cluster's points float: the rays next to theirs hold almost nothing at
+// their range, and not a surface on both sides of it, and the surface seen on the rays around theirs does not pass
+// through them.
 bool is_floating(const KdTree& tree, const Cloud& cloud, const std::vector<std::uint32_t>& pts,
                  const InterferenceParams& params) {
   if (params.float_min_same == 0 || pts.empty()) return false;
+  const double res = std::max(params.resolution_mm, 1e-3);
   RayNeighbourParams rp;
-  rp.lateral_mm = params.float_lateral_res * std::max(params.resolution_mm, 1e-3);
+  rp.lateral_mm = params.float_lateral_res * res;
   rp.tolerance_mm = params.float_range_tolerance_mm;
   rp.reach_mm = params.float_reach_mm;
+  RaySurfaceParams sp;
+  sp.lateral_mm = params.float_surface_lateral_res * res;
+  sp.same_ray_mm = params.float_same_ray_res * res;
+  sp.tolerance_mm = params.float_range_tolerance_mm;
+  sp.reach_mm = params.float_reach_mm;
+  sp.rays = params.float_rays;
+  sp.min_inliers = params.float_min_inliers;
   const std::size_t stride = std::max<std::size_t>(1, pts.size() / std::max<std::size_t>(1, params.float_samples));
   std::size_t sampled = 0, floating = 0;
   std::vector<Neighbor> scratch;
   for (std::size_t k = 0; k < pts.size(); k += stride) {
     ++sampled;
-    const RayNeighbours n =
-        ray_neighbours(tree, pts[k], cloud.points[pts[k]].cast<double>(), params.sensor_position, rp, scratch);
-    floating += n.same < params.float_min_same && std::min(n.front, n.behind) < params.float_min_sides;
+    const Eigen::Vector3d x = cloud.points[pts[k]].cast<double>();
+    const RayNeighbours n = ray_neighbours(tree, pts[k], x, params.sensor_position, rp, scratch);
+    if (n.same >= params.float_min_same || std::min(n.front, n.behind) >= params.float_min_sides) continue;
+    floating += params.float_rays == 0 || !seen_surface_at(tree, pts[k], x, params.sensor_position, sp, scratch).on;
   }
   return double(floating) >= params.float_fraction * double(sampled);
 }

@@ -641,6 +641,42 @@ TEST(Interference, DepthNoiseAboutTheSurfacesIsNoObjectAnObjectInItIs) {
   }
 }
 
+// Another scanner's view of an object (InterferenceParams::float_*): a plate beside the cable rising away from it at
+// 60 deg, 2 mm from the cable at its foot, seen as a depth image from 600 mm over the cable, pixels 0.65 mm apart
+// against the resolution of 0.5 mm the inspection measured, a fifth of them lost and 0.2 mm of noise on every axis.
+// Its points lie on the surface their neighbours saw: it is one object. By the count of neighbours at their range
+// alone (the forty-first session's test, float_rays 0) the plate floats and is dropped.
+TEST(Interference, AnObjectSeenAtAGrazingAngleByAnotherScannerIsFound) {
+  const double r = 5.0;
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Eigen::Vector3d sensor(50, 0, 600);
+  Cloud cloud;
+  const MeasuredCable A = straight_cable_along_x(cloud, r);
+  const double tilt = 60.0 * M_PI / 180.0;
+  const Eigen::Vector3d foot(50, r + 2.0, 0), rise(0, std::cos(tilt), std::sin(tilt));
+  const Eigen::Vector3d n = Eigen::Vector3d::UnitX().cross(rise);
+  std::mt19937 rng(5);
+  std::bernoulli_distribution kept(0.8);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  for (double x = 36; x <= 64; x += 0.65)
+    for (double y = r + 1.0; y <= 20.0; y += 0.65) {
+      const Eigen::Vector3d dir = (Eigen::Vector3d(x, y, 0) - sensor).normalized();
+      const Eigen::Vector3d q = sensor + (n.dot(foot - sensor) / n.dot(dir)) * dir;
+      const double s = (q - foot).dot(rise);
+      const Eigen::Vector3d e(noise(rng), noise(rng), noise(rng));
+      if (s < 0.0 || s > 12.0 || std::abs(q.x() - 50.0) > 10.0 || !kept(rng)) continue;
+      cloud.points.push_back((q + e).cast<float>());
+    }
+  InterferenceParams p = params_seen_from(sensor);
+  const auto found = interferences_of_a(cloud, scene, A, p);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_FALSE(found[0].with.has_value());
+  EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.5);
+  p.float_rays = 0;
+  EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty()) << "the plate did not float by the count alone";
+}
+
 // A wire clipping (two pixels wide, 12 mm long: 48 pixels, under the 64 of min_object_area_mm2) lying 2 mm over the
 // cable and across it is an object by its length (min_object_length_mm, 8 mm); with the length test off it is not.
 TEST(Interference, AWireClippingIsAnObjectByItsLength) {
