@@ -3,7 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -94,15 +94,17 @@ RaySurface seen_surface_at(const KdTree& tree, std::uint32_t self, const Eigen::
   if (k < std::max<std::size_t>(3, params.min_inliers)) return out;
   // A plane along = g . lateral + c through one point of each of three rays; held by the rays with a point within
   // tolerance_mm of it. The one most rays hold wins, then the one nearest the point.
-  const auto residual = [](const Ray& r, const Eigen::Vector3d& plane) {
+  // The ray's range nearest the plane.
+  const auto nearest = [](const Ray& r, const Eigen::Vector3d& plane) {
     const double at = plane.x() * r.at.x() + plane.y() * r.at.y() + plane.z();
-    double best = std::numeric_limits<double>::infinity();
-    for (double a : r.along) best = std::min(best, std::abs(a - at));
-    return best;
+    double along = r.along.front();
+    for (double a : r.along)
+      if (std::abs(a - at) < std::abs(along - at)) along = a;
+    return std::pair<double, double>{along, std::abs(along - at)};
   };
   const auto holding = [&](const Eigen::Vector3d& plane) {
     std::size_t count = 0;
-    for (const Ray& r : rays) count += residual(r, plane) <= params.tolerance_mm;
+    for (const Ray& r : rays) count += nearest(r, plane).second <= params.tolerance_mm;
     return count;
   };
   const double min_det = 0.01 * lateral_sq;
@@ -134,17 +136,11 @@ RaySurface seen_surface_at(const KdTree& tree, std::uint32_t self, const Eigen::
   Eigen::Vector3d atb = Eigen::Vector3d::Zero();
   std::size_t inliers = 0;
   for (const Ray& r : rays) {
-    const double at = best_plane.x() * r.at.x() + best_plane.y() * r.at.y() + best_plane.z();
-    double a_best = 0.0, d_best = std::numeric_limits<double>::infinity();
-    for (double a : r.along)
-      if (std::abs(a - at) < d_best) {
-        d_best = std::abs(a - at);
-        a_best = a;
-      }
-    if (d_best > params.tolerance_mm) continue;
+    const auto [along, off] = nearest(r, best_plane);
+    if (off > params.tolerance_mm) continue;
     const Eigen::Vector3d row(r.at.x(), r.at.y(), 1.0);
     ata += row * row.transpose();
-    atb += row * a_best;
+    atb += row * along;
     ++inliers;
   }
   const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
