@@ -26,6 +26,7 @@ Each scene is then scanned by `ewis simulate --cad scene.obj --plan plan.json --
 --scene-truth scene_truth.json` (the project's scanner: noise along the rays, 40 % outliers, a perturbed
 pose.txt), which writes truth.json with the camera pose. Evaluate with `ewis evaluate --campaign OUT`.
 
+With --wires they are single wires of 1.5-3 mm (3-6 pixels across at the sensor's 0.5 mm spacing).
 With --hoses the tubes are hoses of 18-30 mm instead of cables of 4-13 mm (EWIS hoses: their bends of 3-5 d are long
 in millimetres, and often begin right at a clamp or connector).
 Usage: spline_scenes.py --ewis build/bin/ewis --out DIR [--scenes 20] [--first 0] [--seed 1] [--deviation-mm 6] [--bundle]
@@ -212,9 +213,11 @@ def look_at(eye, target, up):
 
 # --hoses: the diameters drawn instead (mm, each +- 0.3): hoses, whose bends of 3-5 d are long in millimetres
 HOSES = [18.0, 22.0, 26.0, 30.0]
+# --wires: single wires of 1.5-3 mm (each +- 0.1), 3-6 pixels across at 0.5 mm spacing
+WIRES = [1.5, 2.0, 2.5, 3.0]
 
 
-def make_scene(rng, index, deviation_mm, bundle=0, sides=32, hoses=False):
+def make_scene(rng, index, deviation_mm, bundle=0, sides=32, hoses=False, wires=False):
     plate_half = np.array([300.0, 200.0, 3.0])
     rigid = [("structure", (np.array([0, 0, -3.0]), np.eye(3), plate_half))]
     # ribs along the long edges, a cross rib at each end, blocks in two corners: features in every direction
@@ -238,7 +241,10 @@ def make_scene(rng, index, deviation_mm, bundle=0, sides=32, hoses=False):
     for c in range(ncables):
         name = "cable_" + "ABC"[c]
         for attempt in range(200):
-            d = float(rng.choice(HOSES if hoses else [4.0, 5.5, 7.0, 9.0, 11.0, 13.0]) + rng.uniform(-0.3, 0.3))
+            if wires:
+                d = float(rng.choice(WIRES) + rng.uniform(-0.1, 0.1))
+            else:
+                d = float(rng.choice(HOSES if hoses else [4.0, 5.5, 7.0, 9.0, 11.0, 13.0]) + rng.uniform(-0.3, 0.3))
             r = d / 2
             n_ctrl = int(rng.integers(6, 9))
             xs = np.linspace(-230, 230, n_ctrl) + np.concatenate([[0], rng.uniform(-25, 25, n_ctrl - 2), [0]])
@@ -471,6 +477,8 @@ def main():
                     help="2 or 3 cables side by side (touching or nearly in odd scenes: clearance defects)")
     ap.add_argument("--hoses", action="store_true",
                     help="hoses of 18-30 mm instead of cables of 4-13 mm (not with --bundle)")
+    ap.add_argument("--wires", action="store_true",
+                    help="single wires of 1.5-3 mm instead of cables of 4-13 mm (not with --bundle)")
     ap.add_argument("--sides", type=int, default=32,
                     help="sides of each cable's mesh (a coarse CAD export: 8-12; the truth keeps the vertices' radius)")
     a = ap.parse_args()
@@ -479,7 +487,7 @@ def main():
         rng = np.random.default_rng([a.seed, i])
         made = None
         while made is None:
-            made = make_scene(rng, i, a.deviation_mm, a.bundle, a.sides, a.hoses)
+            made = make_scene(rng, i, a.deviation_mm, a.bundle, a.sides, a.hoses, a.wires)
         rigid_objs, nominal_objs, built_objs, plan, truth = made
         src = os.path.join(a.out, "scene_%03d_cad" % i)
         dst = os.path.join(a.out, "scene_%03d" % i)

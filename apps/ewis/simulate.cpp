@@ -2,6 +2,7 @@
 // docs/sim.md). One scene into --out, or --campaign N scenes into --out/scene_000 ...
 #include <filesystem>
 #include <sstream>
+#include <vector>
 
 #include "common.hpp"
 #include "ewis/core/error.hpp"
@@ -35,6 +36,7 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
     double pose_error_deg = 5.0;
     double pose_error_mm = 30.0;
     int cables = 0;
+    std::vector<double> cable_diameter_mm;
     bool noise_free = false;
     std::string viewpoints;
     int rank = 1;
@@ -60,6 +62,9 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
   app->add_option("--pose-error-deg", opt->pose_error_deg, "pose.txt: rotation error of up to this (deg)");
   app->add_option("--pose-error-mm", opt->pose_error_mm, "pose.txt: translation error of up to this (mm)");
   app->add_option("--cables", opt->cables, "Number of cables, 1-3 (default: random)");
+  app->add_option("--cable-diameter-mm", opt->cable_diameter_mm,
+                  "LO HI: every cable's diameter drawn from [LO, HI] mm (e.g. 1.5 3: single wires; default: 3-30)")
+      ->expected(2);
   app->add_flag("--noise-free", opt->noise_free, "No noise and no outliers");
   app->add_option("--viewpoints", opt->viewpoints, "viewpoints.json of `ewis plan`: scan from its camera_to_cad");
   app->add_option("--rank", opt->rank, "Rank of the viewpoint to use (default 1)");
@@ -81,6 +86,10 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
     if (o.pose_error_deg < 0 || o.pose_error_deg > 180) throw InputError("", "--pose-error-deg must be in [0, 180]");
     if (o.pose_error_mm < 0) throw InputError("", "--pose-error-mm must be >= 0");
     if (o.cables < 0 || o.cables > 3) throw InputError("", "--cables must be 1, 2 or 3");
+    if (!o.cable_diameter_mm.empty() &&
+        !(o.cable_diameter_mm[0] >= 0.5 && o.cable_diameter_mm[0] <= o.cable_diameter_mm[1] &&
+          o.cable_diameter_mm[1] <= 40.0))
+      throw InputError("", "--cable-diameter-mm needs LO HI with 0.5 <= LO <= HI <= 40");
     if (o.campaign < 0 || o.campaign > 100000) throw InputError("", "--campaign must be in [0, 100000]");
     if (o.campaign > 0 && (!o.viewpoints.empty() || !o.cad.empty()))
       throw InputError("", "--campaign cannot be combined with --viewpoints or --cad");
@@ -94,6 +103,7 @@ Command add_simulate(CLI::App& root, CommonOptions& common) {
     so.scene.defect = o.defect.empty() ? sim::DefectKind::None : *sim::parse_defect_kind(o.defect);
     so.scene.clearance_with = o.clearance_with;
     so.scene.cables = o.cables;
+    if (!o.cable_diameter_mm.empty()) so.scene.cable_diameter_mm = {o.cable_diameter_mm[0], o.cable_diameter_mm[1]};
     so.sensor.sigma600_mm = o.noise_mm;
     so.sensor.outlier_fraction = o.outliers;
     so.sensor.noise_free = o.noise_free;

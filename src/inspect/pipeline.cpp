@@ -366,6 +366,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     TubeParams tp;
     tp.radius_mm = radius;
     tp.max_seed_radius_ratio = params.max_seed_radius_ratio;
+    tp.thin_max_px = params.thin_cable_max_px;
     const double cover = cover_mm(c);
     tp.seed_search_mm = cover;
     tp.resolution_mm = res.resolution_mm;

@@ -289,8 +289,12 @@ std::optional<SimScene> try_scene(const SceneParams& params, std::uint64_t attem
   // --- cable A: corners left to right, some corners raised (non-planar route) ---
   CableDesign A;
   const bool small_clear = want_parallel;
-  A.cable = make_cable_rules(rng, "cable_A", 4.0, rng.chance(0.25) ? 30.0 : 14.0, small_clear ? 1.0 : 2.5,
-                             small_clear ? 2.0 : 6.0);
+  // The defaults' draws are made with or without SceneParams::cable_diameter_mm (the same scenes without it).
+  const auto diameters = [&](double lo, double hi) {
+    return params.cable_diameter_mm ? *params.cable_diameter_mm : std::pair<double, double>(lo, hi);
+  };
+  const auto [a_lo, a_hi] = diameters(4.0, rng.chance(0.25) ? 30.0 : 14.0);
+  A.cable = make_cable_rules(rng, "cable_A", a_lo, a_hi, small_clear ? 1.0 : 2.5, small_clear ? 2.0 : 6.0);
   const double rA = 0.5 * A.cable.diameter_mm;
   const double zA = 45.0 + rA + rng.uniform(0.0, 20.0);
   const int n_int = rng.integer(2, 3);
@@ -340,7 +344,8 @@ std::optional<SimScene> try_scene(const SceneParams& params, std::uint64_t attem
   double offset_C = 0.0;
   if (want_parallel) {
     CableDesign c;
-    c.cable = make_cable_rules(rng, "cable_C", 3.0, std::min(16.0, A.cable.diameter_mm + 6.0), 1.0, 2.0);
+    const auto [lo, hi] = diameters(3.0, std::min(16.0, A.cable.diameter_mm + 6.0));
+    c.cable = make_cable_rules(rng, "cable_C", lo, hi, 1.0, 2.0);
     const double gap = std::max(A.cable.clearance_mm, c.cable.clearance_mm) + 2.0 + rng.uniform(0.8, 3.0);
     offset_C = (rng.chance(0.5) ? 1.0 : -1.0) * (rA + 0.5 * c.cable.diameter_mm + gap);
     c.radii_ab.clear();
@@ -352,7 +357,8 @@ std::optional<SimScene> try_scene(const SceneParams& params, std::uint64_t attem
   std::optional<CableDesign> B;
   if (want_cross) {
     CableDesign b;
-    b.cable = make_cable_rules(rng, "cable_B", 3.0, 16.0, 1.5, 4.0);
+    const auto [lo, hi] = diameters(3.0, 16.0);
+    b.cable = make_cable_rules(rng, "cable_B", lo, hi, 1.5, 4.0);
     const double xc = rng.uniform(-110, 110);
     double zc = 0;
     const double yc = lerp_y_at_x(A.corners_ab, xc, zc);

@@ -48,8 +48,8 @@ double median(std::vector<double> v) {
 void configure(Context& ctx, const AxisState& s) {
   const TubeParams& p = ctx.params;
   const double r = s.radius_mm, res = ctx.resolution_mm;
-  ctx.tolerance_mm = p.surface_tolerance_mm > 0 ? p.surface_tolerance_mm
-                                                : std::max(std::clamp(3.0 * s.rms_mm, 0.05 * r, 0.3 * r), 0.3 * res);
+  const double shell = ctx.thin ? std::min(3.0 * s.rms_mm, r) : std::clamp(3.0 * s.rms_mm, 0.05 * r, 0.3 * r);
+  ctx.tolerance_mm = p.surface_tolerance_mm > 0 ? p.surface_tolerance_mm : std::max(shell, 0.3 * res);
   // short steps tied to the radius follow bends (paper 4.2.4 "starts from where it stopped")
   ctx.step_mm = p.step_mm > 0 ? p.step_mm : std::max(r, 4.0 * res);
   ctx.expected_density = s.window_mm > 0 ? s.inliers / s.window_mm : 0.0;
@@ -201,6 +201,7 @@ Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, std::vec
 Context make_context(const Cloud& cloud, const KdTree& tree, const TubeParams& params, const Eigen::Vector3d& p0) {
   Context ctx(cloud, tree, params);
   ctx.resolution_mm = params.resolution_mm > 0 ? params.resolution_mm : local_resolution(tree, p0);
+  ctx.thin = params.radius_mm > 0 && 2.0 * params.radius_mm < params.thin_max_px * ctx.resolution_mm;
   init_directions(ctx);
   return ctx;
 }

@@ -75,7 +75,7 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
   }
   if (!est.ok) return false;
   double r = est.radius;
-  if (radius_hint > 0 && (r < 0.5 * radius_hint || r > 2.0 * radius_hint)) r = radius_hint;
+  if (radius_hint > 0 && (ctx.thin || r < 0.5 * radius_hint || r > 2.0 * radius_hint)) r = radius_hint;
   // paper 4.2.2: the sphere around the centre; antipodal pairs = candidate axes; the fullest cylinder wins
   // The window reaches +-max(r, 4 resolutions) along the axis, longer while it holds fewer than
   // kMinWindowPoints, up to +-12 resolutions: a thin tube in a sparse scan has a few points across, and the
@@ -119,10 +119,13 @@ bool initialise_at(Context& ctx, const Eigen::Vector3d& p0, double radius_hint, 
   CylinderFitParams fp = ctx.fit_params(r, est.center);
   fp.max_radius_mm = 3.0 * r;
   const CylinderFitResult fit = fit_cylinder(win, Eigen::Vector3d::Zero(), u, r, fp);
-  if (!fit.ok || fit.arc_deg < 80.0 || fit.inliers < 20 || fit.rms_mm > 0.2 * fit.radius_mm) return false;
-  // a tube, not a noisy plane: the surface must bend well beyond the noise over the arc seen
+  if (!fit.ok || fit.arc_deg < 80.0 || fit.inliers < 20) return false;
+  // a tube, not a noisy plane: the surface must bend well beyond the noise over the arc seen. A thin tube's
+  // stripe cannot show that (TubeParams::thin_max_px): the radius is the hint's, and the steps' test of the empty
+  // space around the tube stands for it.
   const double sagitta = fit.radius_mm * (1.0 - std::cos(0.5 * std::min(fit.arc_deg, 180.0) * M_PI / 180.0));
-  if (sagitta < 4.0 * fit.rms_mm) return false;
+  if (!ctx.thin && (fit.rms_mm > 0.2 * fit.radius_mm || sagitta < 4.0 * fit.rms_mm)) return false;
+  if (ctx.thin && !front_clear(ctx, est.center, fit.point, fit.axis, fit.radius_mm)) return false;  // (tube_step.cpp)
   const double ratio = std::max(1.0, ctx.params.max_seed_radius_ratio);
   if (radius_hint > 0 && (fit.radius_mm * ratio < radius_hint || fit.radius_mm > ratio * radius_hint)) return false;
   out.point = est.center + fit.point;

@@ -23,6 +23,7 @@ struct Context {
   double step_mm = 5.0;        // sub-cable length
   double half_window_mm = 4.0; // half-length of the fit window around each new joint
   double expected_density = 0; // fitted inliers per mm of tube (from the initial fit)
+  bool thin = false;           // TubeParams::thin_max_px: the radius held at the hint in every fit
   std::vector<Eigen::Vector3d> coarse;  // search cone around +z (paper 4.2.2 direction set)
   std::vector<Eigen::Vector3d> fine1, fine2;  // refinement cones (coarse-to-fine)
   std::vector<Eigen::Vector3d> bridge;        // the narrow cone searched across a gap

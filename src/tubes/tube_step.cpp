@@ -13,6 +13,7 @@ CylinderFitParams Context::fit_params(double radius_mm, const Eigen::Vector3d& o
   CylinderFitParams fp;
   fp.min_sigma_mm = std::max(0.02, 0.05 * resolution_mm);
   fp.max_radius_mm = 3.0 * radius_mm;
+  fp.fix_radius = thin;
   fp.use_sensor = params.has_sensor;
   fp.sensor = params.sensor_position - origin;
   return fp;
@@ -249,6 +250,9 @@ double local_resolution(const KdTree& tree, const Eigen::Vector3d& p) {
 // one degree of freedom, in units of the fit's own noise: 4 standard errors) to end the tube.
 constexpr double kRadiusChangeChi2 = 16.0;
 
+// A thin tube's step whose axis lies within 25 deg of the sensor's ray ends the tube (see propagate_step).
+const double kThinAlongRayCos = std::cos(25.0 * M_PI / 180.0);
+
 StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::Vector3d& d_in, double r_ref,
                           double arc_ref_deg, double rms_ref_mm, bool bridging, double scale) {
   StepResult st;
@@ -365,6 +369,24 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
     st.fail = "direction jump";
     return st;
   }
+  // A thin tube along the sensor's rays: the depth errors between a front object's edge and what lies behind it
+  // (mixed pixels) line up along the rays, and a fit holding a thin tube's radius follows them (a 1.7 mm wire
+  // walked 11 mm up such a line to a wire crossing 16 mm above it). A tube seen so nearly end-on shows a dot
+  // the size of its diameter, no surface to trace.
+  if (ctx.thin && ctx.params.has_sensor) {
+    const Eigen::Vector3d ray = (a + fit.point - ctx.params.sensor_position).normalized();
+    if (std::abs(ray.dot(fit.axis)) > kThinAlongRayCos) {
+      st.fail = "along the ray";
+      return st;
+    }
+    // ... and one with something in front of it is no surface the sensor saw: the mixed pixels between a wire's
+    // edge and the background behind it line up along the wire, in its shadow (a 1.9 mm wire traced 7 mm below
+    // itself, and its own points then read as a foreign object 5.9 mm from it)
+    if (!front_clear(ctx, a, fit.point, fit.axis, fit.radius_mm)) {
+      st.fail = "hidden";
+      return st;
+    }
+  }
   const Eigen::Vector3d foot_a = fit.point + fit.axis * fit.axis.dot(-fit.point);  // a is the origin here
   const double offset = foot_a.norm();
   const double max_offset = std::max(0.35 * r_ref, 2.0 * ctx.resolution_mm);
@@ -380,7 +402,8 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
   // the same surface as before: residuals like the tube's so far (a strip of a plane, a bundle of outliers
   // or another object's edge fit worse), and (paper 4.2.2: "an empty space around cables is assumed")
   // few points just outside the surface, where a plane or a touching object would continue
-  if (fit.rms_mm > std::min(0.25 * fit.radius_mm, 1.8 * rms_ref_mm + 0.05 * ctx.resolution_mm) ||
+  const double rms_cap = 1.8 * rms_ref_mm + 0.05 * ctx.resolution_mm;
+  if (fit.rms_mm > (ctx.thin ? rms_cap : std::min(0.25 * fit.radius_mm, rms_cap)) ||
       (bridging && fit.inliers < 0.5 * expected_per_mm * win_len)) {
     st.fail = "no surface";
     return st;

@@ -274,6 +274,23 @@ class FreshScenes(unittest.TestCase):
     # --noise-mm 0.25`, bench/RESULTS.md, session 30): three scenes it got wrong.
     Y40 = ("--cables", "3", "--mismatch-patches", "150", "--outliers", "0.45", "--noise-mm", "0.25")
 
+    def test_two_crossing_wires_a_few_points_across_are_traced_whole(self):
+        # WA20 (`ewis simulate --seed 4344 --campaign 20 --cable-diameter-mm 1.5 3`, the forty-third session) scene_010:
+        # two 1.7 mm wires, 3-4 points across at 0.5 mm. No seed's free fit read the wire's radius (0.54-1.37 mm for
+        # 0.85), cable_A was "not found" and the clean scene failed. With the plan's radius held (InspectParams::
+        # thin_cable_max_px) A was traced, but up the mixed pixels between it and cable_B crossing 16 mm above
+        # (along the rays), and the two read 0.34 mm apart; a thin tube's step along the rays now ends it.
+        truth, report = simulate_and_inspect("wires_a010", 16320270365966069462, "--defect", "none",
+                                             "--cable-diameter-mm", "1.5", "3")
+        self.assertEqual(truth["defects"], [])
+        for name in ("cable_A", "cable_B"):
+            t, c = truth_and_report_cable(truth, report, name)
+            self.assertTrue(c["found"], name)
+            self.assertGreaterEqual(c["cad_traced_fraction"], 0.9, name)
+            self.assertLessEqual(c["length_mm"], 1.02 * t["length_mm"], name)
+            self.assertEqual(c["interferences"], [], name)
+        self.assertEqual(report["verdict"], "pass")
+
     def test_a_dropped_run_on_a_neighbour_leaves_the_cables_place_to_be_traced(self):
         # Scene_027. cable_A (4.4 mm), displaced up to 9 mm from its CAD, touches bracket_1. Its second run took 416 mm
         # of cable_C (5.9 mm, 1.33x: dropped by max_seed_radius_ratio) and covered A's CAD samples along C: A's 204 mm

@@ -64,6 +64,24 @@ class SimulateTest(unittest.TestCase):
             self.assertEqual(sorted(os.listdir(os.path.join(out, s))), ["report.json"], s)
             validate(load(os.path.join(out, s, "report.json")), "report.schema.json")
 
+    def test_cable_diameters_drawn_from_the_range_asked(self):
+        # --cable-diameter-mm LO HI: every cable's diameter in [LO, HI] (single wires), scenes still valid; without it
+        # the same seed draws the defaults (3-30 mm)
+        for seed in ("4", "9"):
+            d = tmpdir("sim-wires-" + seed)
+            run("simulate", "--out", d, "--seed", seed, "--cables", "3", "--cable-diameter-mm", "1.5", "3",
+                "--scene-only", "--quiet", check=0)
+            plan = load(os.path.join(d, "plan.json"))
+            validate(plan, "plan.schema.json")
+            diameters = [e["diameter_mm"] for e in plan["elements"] if e["kind"] == "cable"]
+            self.assertEqual(len(diameters), 3)
+            for x in diameters:
+                self.assertTrue(1.5 <= x <= 3.0, diameters)
+        for bad in (["3", "1.5"], ["0.1", "2"], ["1"]):
+            proc = run("simulate", "--out", tmpdir("sim-wires-bad"), "--cable-diameter-mm", *bad, "--quiet")
+            self.assertEqual(proc.returncode, 2, bad)
+            self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+
     def test_bad_option_exit_2(self):
         d = tmpdir("sim-bad")
         proc = run("simulate", "--out", d, "--defect", "nonsense")

@@ -61,6 +61,9 @@ struct InspectParams {
   // 1.94 mm, 0.69 x; the trace alone allows 0.65-1.35 x), and the two then read 0.9 mm apart for 4.75 (fresh campaign
   // `--seed 9191 --campaign 40 --cables 3 --pose-error-deg 5 --pose-error-mm 30 --outliers 0.5`, scene_020).
   double max_seed_radius_ratio = 1.3;
+  // A cable whose plan diameter spans fewer than this many resolutions (a single wire: 1.5-2.5 mm at 0.5 mm) is
+  // traced with its radius held at the plan's (TubeParams::thin_max_px). 0: every cable's radius fitted.
+  double thin_cable_max_px = 5.0;
   // A run holds at least this share of the scan points a cable of its radius would show over its length (its width
   // seen from the sensor, 2 r x the length across the rays, over the resolution squared): fewer, it was traced on
   // stray points (a neighbour's flank or mixed pixels left after untangling), not on a cable, and is dropped. A

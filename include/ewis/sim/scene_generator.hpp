@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ewis/core/pose.hpp"
@@ -36,6 +37,9 @@ struct SceneParams {
   std::string clearance_with;  // for Clearance: "pipe", "bracket", "cable", or "" (any)
   int cables = 0;              // 1-3; 0: random
   int pipes = -1;              // 0-2; -1: random
+  // Every cable's diameter drawn from [lo, hi] mm instead of the defaults (cable_A 4-14 or 4-30, cable_B 3-16,
+  // cable_C 3 to A's + 6): e.g. single wires of 1.5-3 mm, 3-6 pixels across at the sensor's 0.5 mm spacing.
+  std::optional<std::pair<double, double>> cable_diameter_mm;
   SensorModel sensor;
   double view_tilt_max_deg = 30.0;   // camera direction off the plate normal
   double standoff_tolerance_mm = 6.0;  // paper 5: 600 mm +- 6 mm

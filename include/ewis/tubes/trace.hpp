@@ -54,6 +54,13 @@ struct TubeParams {
   // trace_cable only: when no start is found within the radius of the CAD points, look this far from them
   // (a cable displaced from its CAD by more than its radius); <= radius_mm: no second pass.
   double seed_search_mm = 0.0;
+  // A thin tube: with a radius hint (radius_mm) whose diameter spans fewer than thin_max_px resolutions, every
+  // fit holds the radius at the hint and fits the axis only. A stripe 3-4 points wide does not measure its own
+  // curvature against the noise (a 1.7 mm wire under 0.2 mm noise at 0.5 mm spacing: free fits read 0.54-1.37 mm
+  // for 0.85, the seeds' "bends beyond the noise" test failed, the wire was not found), while the axis it holds
+  // is well measured. Its shell is then at least 3 x the fit's rms wide (up to the radius), and the rms is not
+  // capped by the radius. 0: off (the radius is fitted everywhere).
+  double thin_max_px = 0.0;
 };
 
 struct SubCable {
