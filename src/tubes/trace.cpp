@@ -291,10 +291,13 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
   if (cloud.empty() || tree.size() == 0 || cad_points.empty() || !(radius_mm > 0)) return none;
   TubeParams params = params_in;
   params.radius_mm = radius_mm;
-  // paper 4.2.1: a sphere of the cable radius around each CAD point; count scan points; sort
+  // paper 4.2.1: a sphere of the cable radius around each CAD point; count scan points; sort. Around a thin tube's
+  // axis (TubeParams::thin_max_px) that sphere holds only the points whose noise took them inside it, a few at most
+  // (a 2.2 mm wire at 0.5 mm spacing: under the 10 a start needs): its sphere reaches 2 resolutions beyond.
   const std::size_t n = cad_points.size();
   std::vector<std::uint32_t> counts(n, 0);
-  const float rf = static_cast<float>(radius_mm);
+  const bool thin = params.resolution_mm > 0 && 2.0 * radius_mm < params.thin_max_px * params.resolution_mm;
+  const float rf = static_cast<float>(thin ? radius_mm + 2.0 * params.resolution_mm : radius_mm);
   parallel_for_each_index(n, [&](std::size_t i) {
     if (cad_points[i].allFinite())
       counts[i] = static_cast<std::uint32_t>(tree.count_within(cad_points[i].cast<float>(), rf, 1u << 30));
@@ -354,7 +357,7 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
     // a failed candidate's neighbours would fail the same way: skip them
     if (std::any_of(failed.begin(), failed.end(), [&](const Eigen::Vector3d& f) { return (f - c).norm() < radius_mm; }))
       continue;
-    if (attempt(c, radius_mm, 2.0 * radius_mm, found)) return found;
+    if (attempt(c, rf, 2.0 * radius_mm, found)) return found;
   }
   // Second pass, when the cable lies off its CAD by more than its radius (a displaced cable: the spheres
   // around the CAD points hold none of it) wherever the first pass could start: candidates ranked by the
