@@ -24,7 +24,7 @@ Usage:
                     [--sigma-mm 0.15] [--outliers 0.4] [--focal-px 1150] [--width 1280] [--height 1024]
                     [--mixed 0.5] [--floor-z Z] [--clutter N] [--ray-sigma-mm S --ray-corr-px R]
                     [--dropout D] [--holes H]
-`--seed` must be the seed the campaign C was simulated with: the as-built meshes are made again with
+`--seed` (and `--cable-diameter-mm`, if any) must be those the campaign C was simulated with: the as-built meshes are made again with
 `ewis simulate --scene-only` into OUT_asbuilt (a campaign does not keep them) and checked against C's truth.
 """
 import argparse
@@ -203,6 +203,8 @@ def main():
     ap.add_argument('--ewis', required=True, help='the ewis binary (to make the as-built meshes again)')
     ap.add_argument('--campaign', required=True, help='folder of `ewis simulate --campaign`')
     ap.add_argument('--seed', type=int, required=True, help='the seed that campaign was made with')
+    ap.add_argument('--cable-diameter-mm', nargs=2, default=None, metavar=('LO', 'HI'),
+                    help="the campaign's --cable-diameter-mm, when it was made with one")
     ap.add_argument('--out', required=True)
     ap.add_argument('--first', type=int, default=0)
     ap.add_argument('--last', type=int, default=-1, help='last scene index (default: all)')
@@ -227,8 +229,9 @@ def main():
     last = len(scenes) - 1 if a.last < 0 else min(a.last, len(scenes) - 1)
     built = a.out.rstrip('/') + '_asbuilt'  # beside OUT, not in it (evaluate reads every folder of OUT)
     if not os.path.isdir(built):
+        extra = ['--cable-diameter-mm', *a.cable_diameter_mm] if a.cable_diameter_mm else []
         subprocess.run([a.ewis, 'simulate', '--out', built, '--seed', str(a.seed), '--campaign', str(len(scenes)),
-                        '--scene-only', '-q'], check=True)
+                        *extra, '--scene-only', '-q'], check=True)
     for i in range(a.first, last + 1):
         name = scenes[i]
         src, dst = os.path.join(a.campaign, name), os.path.join(a.out, name)

@@ -252,6 +252,7 @@ constexpr double kRadiusChangeChi2 = 16.0;
 
 // A thin tube's step whose axis lies within 25 deg of the sensor's ray ends the tube (see propagate_step).
 const double kThinAlongRayCos = std::cos(25.0 * M_PI / 180.0);
+constexpr double kThinBinPoints = 8.0;  // expected points per bin of a thin tube's histogram (see propagate_step)
 
 StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::Vector3d& d_in, double r_ref,
                           double arc_ref_deg, double rms_ref_mm, bool bridging, double scale) {
@@ -282,7 +283,9 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
     return st;
   }
   // paper 4.2.3 / Fig. 10: height from the histogram of the projections on the axis: stop where bins empty
-  const double bw = std::max(1.5 * ctx.resolution_mm, reach / 12.0);
+  // A thin tube's bins are long enough to expect kThinBinPoints each: a 1.9 mm wire at 0.63 mm pixels shows ~3 points
+  // per mm, a 1.5-resolution bin ~3, and one bin in five held fewer than the 2 that end the tube (Poisson).
+  const double bw = std::max({1.5 * ctx.resolution_mm, reach / 12.0, ctx.thin ? std::min(kThinBinPoints / expected_per_mm, reach) : 0.0});
   const int nbins = std::max(1, static_cast<int>(std::ceil(reach / bw)));
   std::vector<int> bins(nbins, 0);
   const double in2 = (r_ref + tol) * (r_ref + tol);
