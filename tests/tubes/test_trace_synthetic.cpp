@@ -196,7 +196,7 @@ TEST(TraceTube, ThinTubeInASparseNoisyScan) {
 // 0.5 to 1.4 mm and whose curvature does not rise above the noise. Held at the hinted radius (thin_max_px), the
 // axis alone is fitted and the wire is traced whole, its centreline within 0.06-0.08 mm (rms); with every radius
 // fitted it is lost or followed 0.18 mm off.
-TEST(TraceTube, AWireAFewPointsAcrossIsTracedWithItsRadiusHeld) {
+void check_wire(double pixel_mm, bool fitted_fails) {
   const double r = 0.85, R = 15.0;
   const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.3, Vector3d(1, 0.4, 0).normalized()).toRotationMatrix();
   const std::vector<Vector3d> truth = leg_arc_leg(R, 70.0, 60.0, rot, Vector3d(0, 0, 600), 200);
@@ -211,7 +211,7 @@ TEST(TraceTube, AWireAFewPointsAcrossIsTracedWithItsRadiusHeld) {
   ewis::TubeParams fitted = held;
   fitted.thin_max_px = 0.0;
   for (std::uint64_t seed : {3, 5, 8}) {
-    const synth::Scan scan = synth::render(scene, 0.2, 0.4, seed, 0.5);
+    const synth::Scan scan = synth::render(scene, 0.2, 0.4, seed, pixel_mm);
     const ewis::KdTree tree(scan.cloud.points);
     const ewis::TubeTrace t = ewis::trace_tube(scan.cloud, tree, surface_seed(truth[100], r), held);
     const Metrics m = measure(t, truth, r);
@@ -224,9 +224,11 @@ TEST(TraceTube, AWireAFewPointsAcrossIsTracedWithItsRadiusHeld) {
     const Metrics mf = f.found ? measure(f, truth, r) : Metrics{};
     print("wire, radius fitted", f, mf);
     // fitted, the trace loses the wire (seed 5: 30 % of it) or follows its axis 2.3-3.3 times less exactly
-    EXPECT_TRUE(mf.coverage < 0.5 || mf.rms > 1.5 * m.rms) << "seed " << seed;
+    if (fitted_fails) EXPECT_TRUE(mf.coverage < 0.5 || mf.rms > 1.5 * m.rms) << "seed " << seed;
   }
 }
+
+TEST(TraceTube, AWireAFewPointsAcrossIsTracedWithItsRadiusHeld) { check_wire(0.5, true); }
 
 TEST(TraceTube, ParallelTubesTwoMillimetresApartNeverJump) {
   // same diameter, 2 mm apart; tube A shorter, so its ends face B's continuation
