@@ -201,7 +201,7 @@ Walk walk(Context& ctx, const AxisState& s, const Eigen::Vector3d& dir, std::vec
 Context make_context(const Cloud& cloud, const KdTree& tree, const TubeParams& params, const Eigen::Vector3d& p0) {
   Context ctx(cloud, tree, params);
   ctx.resolution_mm = params.resolution_mm > 0 ? params.resolution_mm : local_resolution(tree, p0);
-  ctx.thin = params.radius_mm > 0 && 2.0 * params.radius_mm < params.thin_max_px * ctx.resolution_mm;
+  ctx.thin = thin_tube(params, ctx.resolution_mm);
   init_directions(ctx);
   return ctx;
 }
@@ -296,8 +296,8 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
   // (a 2.2 mm wire at 0.5 mm spacing: under the 10 a start needs): its sphere reaches 2 resolutions beyond.
   const std::size_t n = cad_points.size();
   std::vector<std::uint32_t> counts(n, 0);
-  const bool thin = params.resolution_mm > 0 && 2.0 * radius_mm < params.thin_max_px * params.resolution_mm;
-  const float rf = static_cast<float>(thin ? radius_mm + 2.0 * params.resolution_mm : radius_mm);
+  const float rf = static_cast<float>(thin_tube(params, params.resolution_mm) ? radius_mm + 2.0 * params.resolution_mm
+                                                                                : radius_mm);
   parallel_for_each_index(n, [&](std::size_t i) {
     if (cad_points[i].allFinite())
       counts[i] = static_cast<std::uint32_t>(tree.count_within(cad_points[i].cast<float>(), rf, 1u << 30));

@@ -114,4 +114,9 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
 // Measures the local resolution (median nearest-neighbour distance) around p.
 double local_resolution(const KdTree& tree, const Eigen::Vector3d& p);
 
+// Whether a tube traced with `p` at this resolution is thin (TubeParams::thin_max_px): its radius held at the hint.
+inline bool thin_tube(const TubeParams& p, double resolution_mm) {
+  return p.radius_mm > 0 && resolution_mm > 0 && 2.0 * p.radius_mm < p.thin_max_px * resolution_mm;
+}
+
 }  // namespace ewis::tubes_detail

@@ -285,7 +285,8 @@ StepResult propagate_step(Context& ctx, const Eigen::Vector3d& a, const Eigen::V
   // paper 4.2.3 / Fig. 10: height from the histogram of the projections on the axis: stop where bins empty
   // A thin tube's bins are long enough to expect kThinBinPoints each: a 1.9 mm wire at 0.63 mm pixels shows ~3 points
   // per mm, a 1.5-resolution bin ~3, and one bin in five held fewer than the 2 that end the tube (Poisson).
-  const double bw = std::max({1.5 * ctx.resolution_mm, reach / 12.0, ctx.thin ? std::min(kThinBinPoints / expected_per_mm, reach) : 0.0});
+  const double thin_bw = ctx.thin ? std::min(kThinBinPoints / expected_per_mm, reach) : 0.0;
+  const double bw = std::max({1.5 * ctx.resolution_mm, reach / 12.0, thin_bw});
   const int nbins = std::max(1, static_cast<int>(std::ceil(reach / bw)));
   std::vector<int> bins(nbins, 0);
   const double in2 = (r_ref + tol) * (r_ref + tol);

@@ -224,7 +224,9 @@ void check_wire(double pixel_mm, bool fitted_fails) {
     const Metrics mf = f.found ? measure(f, truth, r) : Metrics{};
     print("wire, radius fitted", f, mf);
     // fitted, the trace loses the wire (seed 5: 30 % of it) or follows its axis 2.3-3.3 times less exactly
-    if (fitted_fails) EXPECT_TRUE(mf.coverage < 0.5 || mf.rms > 1.5 * m.rms) << "seed " << seed;
+    if (fitted_fails) {
+      EXPECT_TRUE(mf.coverage < 0.5 || mf.rms > 1.5 * m.rms) << "seed " << seed;
+    }
   }
 }
 
