@@ -34,7 +34,9 @@ ChainPoint distance_to_chain(const std::vector<Cylinder>& chain, const Eigen::Ve
   return best;
 }
 
-std::vector<Cylinder> bridge_short_breaks(const std::vector<Cylinder>& chain, double max_break_mm) {
+std::vector<Cylinder> bridge_short_breaks(
+    const std::vector<Cylinder>& chain, double max_break_mm,
+    const std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)>& held_mm) {
   std::vector<Cylinder> out = chain;
   // Run ends: position, outward direction (away from the run), radius, run index. A run is a stretch of
   // segments joined end to start.
@@ -90,7 +92,8 @@ std::vector<Cylinder> bridge_short_breaks(const std::vector<Cylinder>& chain, do
   auto facing = [&](std::size_t a, std::size_t b) {
     const Eigen::Vector3d ab = ends[b].at - ends[a].at;
     const double len = ab.norm();
-    return len <= max_break_mm && (len < 1e-9 || (ends[a].out.dot(ab) > 0.5 * len && ends[b].out.dot(-ab) > 0.5 * len));
+    if (len > max_break_mm && !(held_mm && len - held_mm(ends[a].at, ends[b].at) <= max_break_mm)) return false;
+    return len < 1e-9 || (ends[a].out.dot(ab) > 0.5 * len && ends[b].out.dot(-ab) > 0.5 * len);
   };
   auto nearest_other = [&](std::size_t a) {
     std::size_t best = ends.size();

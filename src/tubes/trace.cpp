@@ -296,8 +296,8 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
   // (a 2.2 mm wire at 0.5 mm spacing: under the 10 a start needs): its sphere reaches 2 resolutions beyond.
   const std::size_t n = cad_points.size();
   std::vector<std::uint32_t> counts(n, 0);
-  const float rf = static_cast<float>(thin_tube(params, params.resolution_mm) ? radius_mm + 2.0 * params.resolution_mm
-                                                                                : radius_mm);
+  const double sphere_mm = thin_tube(params, params.resolution_mm) ? radius_mm + 2.0 * params.resolution_mm : radius_mm;
+  const float rf = static_cast<float>(sphere_mm);
   parallel_for_each_index(n, [&](std::size_t i) {
     if (cad_points[i].allFinite())
       counts[i] = static_cast<std::uint32_t>(tree.count_within(cad_points[i].cast<float>(), rf, 1u << 30));
@@ -357,7 +357,7 @@ TubeTrace trace_cable(const Cloud& cloud, const KdTree& tree, const std::vector<
     // a failed candidate's neighbours would fail the same way: skip them
     if (std::any_of(failed.begin(), failed.end(), [&](const Eigen::Vector3d& f) { return (f - c).norm() < radius_mm; }))
       continue;
-    if (attempt(c, rf, 2.0 * radius_mm, found)) return found;
+    if (attempt(c, sphere_mm, 2.0 * radius_mm, found)) return found;
   }
   // Second pass, when the cable lies off its CAD by more than its radius (a displaced cable: the spheres
   // around the CAD points hold none of it) wherever the first pass could start: candidates ranked by the

@@ -291,6 +291,17 @@ class FreshScenes(unittest.TestCase):
             self.assertEqual(c["interferences"], [], name)
         self.assertEqual(report["verdict"], "pass")
 
+    def test_a_box_on_a_wire_beside_its_clamp_is_found(self):
+        # WA20 scene_015: a 15 x 10 x 9 mm box lies on a 2.8 mm wire 20 mm from the wire's clamp. The clamp ends the
+        # runs and the box hides the wire: 42.6 mm untraced, over the 40 mm the interference bridges, and the box was
+        # not looked for. The stretch inside the clamp (an attached element) no longer counts against the bridge.
+        truth, report = simulate_and_inspect("wires_a015", 8793831929583423397, "--defect", "foreign_object",
+                                             "--cable-diameter-mm", "1.5", "3")
+        self.assertEqual([d["kind"] for d in truth["defects"]], ["foreign_object"])
+        a = element(report, "cable_A")
+        self.assertTrue([i for i in a["interferences"] if i["with"] is None])
+        self.assertEqual(report["verdict"], "fail")
+
     def test_a_dropped_run_on_a_neighbour_leaves_the_cables_place_to_be_traced(self):
         # Scene_027. cable_A (4.4 mm), displaced up to 9 mm from its CAD, touches bracket_1. Its second run took 416 mm
         # of cable_C (5.9 mm, 1.33x: dropped by max_seed_radius_ratio) and covered A's CAD samples along C: A's 204 mm

@@ -858,6 +858,12 @@ TEST(ChainDistance, ShortBreaksBetweenRunsAreBridged) {
   EXPECT_TRUE(distance_to_chain(chain, {46, 3, 0}).beyond_end);
   EXPECT_TRUE(distance_to_chain(bridged, {95, 0, 0}).beyond_end);  // the cable's own end stays an end
   EXPECT_EQ(bridge_short_breaks(chain, 11.0).size(), chain.size());  // a 12 mm break is longer than 11
+  // ... unless some of it lies where the cable is held by design (a clamp over x = 44-48): 8 mm left
+  const auto clamp = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::max(0.0, std::min(std::max(a.x(), b.x()), 48.0) - std::max(std::min(a.x(), b.x()), 44.0));
+  };
+  EXPECT_GT(bridge_short_breaks(chain, 11.0, clamp).size(), chain.size());
+  EXPECT_EQ(bridge_short_breaks(chain, 7.0, clamp).size(), chain.size());
   // runs that do not face each other (side by side, both ending at x = 40) are not bridged
   std::vector<Cylinder> side = straight_chain({0, 0, 0}, {40, 0, 0}, 2.0, 4);
   const std::vector<Cylinder> beside = straight_chain({0, 8, 0}, {40, 8, 0}, 2.0, 4);

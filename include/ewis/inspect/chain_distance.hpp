@@ -1,6 +1,7 @@
 #pragma once
 // Distances to a measured cable's fitted model: the chain of sub-cable axes (paper 4.2.3-4.2.4).
 #include <Eigen/Core>
+#include <functional>
 #include <vector>
 
 #include "ewis/core/cylinder.hpp"
@@ -23,7 +24,11 @@ ChainPoint distance_to_chain(const std::vector<Cylinder>& chain, const Eigen::Ve
 // cable traced in runs on both sides of something lying over it (a clamp, a crossing cable, a foreign object)
 // is still there under it: what lies in the break is judged against the bridge, not dropped as "beyond the
 // cable's end", and the cable's own untraced surface there stays within its surface band.
-std::vector<Cylinder> bridge_short_breaks(const std::vector<Cylinder>& chain, double max_break_mm);
+// `held_mm` (optional): the length of a segment that lies where something holds the cable by design (its clamps and
+// connectors, which end its runs); a break is measured without it.
+std::vector<Cylinder> bridge_short_breaks(
+    const std::vector<Cylinder>& chain, double max_break_mm,
+    const std::function<double(const Eigen::Vector3d&, const Eigen::Vector3d&)>& held_mm = {});
 
 // Least distance between segments [p0, p1] and [q0, q1]; the closest points in `on_p`, `on_q` when given.
 double segment_distance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
