@@ -96,6 +96,13 @@ MeasuredCable cable_with_break(Cloud& cloud, double r, double break_start, doubl
   return a;
 }
 
+// A scene of cable_A's CAD alone (element 0): a cylinder of radius r, 100 mm along x from the origin.
+Scene scene_of_cable_a(double r) {
+  Scene scene;
+  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  return scene;
+}
+
 // cable_A (scene element 0): 100 mm along x from the origin, as 20 sub-cables.
 MeasuredCable straight_cable_along_x(Cloud& cloud, double r) {
   return straight_cable(cloud, "cable_A", 0, {0, 0, 0}, {100, 0, 0}, r, 20);
@@ -331,27 +338,23 @@ TEST(Interference, AnalyticScene) {
 
 TEST(Interference, TinyClustersAreNoise) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   Cloud cloud;
   const MeasuredCable A = straight_cable_along_x(cloud, r);
   // three flying pixels 2 mm off the surface, and a few points hugging the surface (unclaimed mixed pixels)
   for (int i = 0; i < 3; ++i) cloud.points.emplace_back(50.f + 0.3f * i, 0.f, float(r + 2.0));
   for (int i = 0; i < 40; ++i) cloud.points.emplace_back(20.f + 0.5f * i, 0.f, float(r + 0.4));
-  const KdTree tree(cloud.points);
-  const SurfaceIndex rigid;
   InterferenceParams p;
   p.clearance_mm = 5.0;
   p.resolution_mm = kRes;
-  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+  EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
 }
 
 // With the sensor known a cluster's size is counted in pixels: 60 points on 6 rays (a 1 x 1.5 mm patch of pixels,
 // each sampled 10 times as a simulator may do) are noise; 60 points on 60 rays (a 2 x 7.5 mm patch) are not.
 TEST(Interference, ManyPointsOnAFewRaysAreNoise) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   for (const bool few_rays : {true, false}) {
     Cloud cloud;
@@ -363,11 +366,9 @@ TEST(Interference, ManyPointsOnAFewRaysAreNoise) {
       const double depth = few_rays ? 0.01 * (k / 6) : 0.0;  // along the pixel's ray: a patch facing the sensor
       cloud.points.push_back((pixel + depth * (pixel - sensor).normalized()).cast<float>());
     }
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
     InterferenceParams p = params_seen_from(sensor);
     p.min_object_area_mm2 = 0;  // the patch stands alone: only the cluster's own size is tested here
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+    const auto found = interferences_of_a(cloud, scene, A, p);
     EXPECT_EQ(found.size(), few_rays ? 0u : 1u);
   }
 }
@@ -377,8 +378,7 @@ TEST(Interference, ManyPointsOnAFewRaysAreNoise) {
 // rod lying beside the cable (its upper half sampled once per pixel, as the sensor sees it) is reported.
 TEST(Interference, VeilsAreDroppedObjectsKept) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> depth(0.0, 3.0);
@@ -398,10 +398,8 @@ TEST(Interference, VeilsAreDroppedObjectsKept) {
         for (double y = yc - rr + 0.25; y < yc + rr; y += kRes)
           cloud.points.emplace_back(float(x), float(y), float(std::sqrt(rr * rr - (y - yc) * (y - yc))));
     }
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
     const InterferenceParams p = params_seen_from(sensor);
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+    const auto found = interferences_of_a(cloud, scene, A, p);
     if (veil) {
       EXPECT_TRUE(found.empty()) << "a veil was reported";
     } else {
@@ -419,8 +417,7 @@ TEST(Interference, VeilsAreDroppedObjectsKept) {
 // cover 2.5 mm of the image across (a strip 2.45 mm wide by the measure), is kept.
 TEST(Interference, AVeilTurningACornerIsDroppedATabSeenEdgeOnKept) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> depth(-0.2, 0.2);
@@ -490,8 +487,7 @@ TEST(Interference, AVeilTurningACornerIsDroppedATabSeenEdgeOnKept) {
 // at the blob's first depth (a patch facing the sensor) is an object.
 TEST(Interference, StacksOfMixedPointsAreAVeil) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   for (const bool stacked : {true, false}) {
     Cloud cloud;
@@ -502,12 +498,10 @@ TEST(Interference, StacksOfMixedPointsAreAVeil) {
         for (int k = 0; k < (stacked ? 6 : 1); ++k)
           cloud.points.push_back((pixel + 0.6 * k * (pixel - sensor).normalized()).cast<float>());
       }
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
     InterferenceParams p = params_seen_from(sensor);
     p.min_cluster_area_mm2 = 3.0;  // 12 pixels at this resolution: the 16-pixel blob is large enough
     p.min_object_area_mm2 = 0;     // ... and it stands alone: only the cluster's own size is tested here
-    EXPECT_EQ(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).size(), stacked ? 0u : 1u);
+    EXPECT_EQ(interferences_of_a(cloud, scene, A, p).size(), stacked ? 0u : 1u);
   }
 }
 
@@ -518,8 +512,7 @@ TEST(Interference, StacksOfMixedPointsAreAVeil) {
 // patch is reported.
 TEST(Interference, AClumpStandingAloneIsNoiseAnObjectReachingBeyondIsNot) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   for (const double half_length : {1.5, 20.0}) {
     Cloud cloud;
@@ -545,8 +538,7 @@ TEST(Interference, AClumpStandingAloneIsNoiseAnObjectReachingBeyondIsNot) {
 // campaign, scene_034); the same stacks on a 9 x 9 pixel patch (81 pixels) are.
 TEST(Interference, StackedPointsDoNotMakeAClumpAnObject) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   for (const int side : {6, 9}) {
     Cloud cloud;
@@ -575,8 +567,7 @@ TEST(Interference, StackedPointsDoNotMakeAClumpAnObject) {
 // past the clearance is still an object.
 TEST(Interference, ACablesOwnEndPastItsRunIsNoPartOfAnObject) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   for (const double half_width : {1.0, 20.0}) {
     Cloud cloud;
@@ -598,8 +589,7 @@ TEST(Interference, ACablesOwnEndPastItsRunIsNoPartOfAnObject) {
 // top, 2 mm beside it, under the same noise, is one.
 TEST(Interference, DepthNoiseAboutTheSurfacesIsNoObjectAnObjectInItIs) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   const auto in_box = [r](double x, double y) { return x >= 47.0 && x <= 53.0 && y >= r + 2.0 && y <= r + 8.0; };
   for (const bool object : {false, true}) {
@@ -648,8 +638,7 @@ TEST(Interference, DepthNoiseAboutTheSurfacesIsNoObjectAnObjectInItIs) {
 // alone (the forty-first session's test, float_rays 0) the plate floats and is dropped.
 TEST(Interference, AnObjectSeenAtAGrazingAngleByAnotherScannerIsFound) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   Cloud cloud;
   const MeasuredCable A = straight_cable_along_x(cloud, r);
@@ -678,42 +667,36 @@ TEST(Interference, AnObjectSeenAtAGrazingAngleByAnotherScannerIsFound) {
 // cable and across it is an object by its length (min_object_length_mm, 8 mm); with the length test off it is not.
 TEST(Interference, AWireClippingIsAnObjectByItsLength) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   Cloud cloud;
   const MeasuredCable A = straight_cable_along_x(cloud, r);
   add_top_face(cloud, {50.0, -6.0, r + 2.0}, {50.0 + kRes, -6.0 + 23 * kRes, r + 2.0});
-  const KdTree tree(cloud.points);
-  const SurfaceIndex rigid;
   InterferenceParams p = params_seen_from(sensor);
-  expect_one_foreign_object(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p), 2.0);
+  expect_one_foreign_object(interferences_of_a(cloud, scene, A, p), 2.0);
   p.min_object_length_mm = 0;
-  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+  EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
 }
 
 // A foreign strip lying across the cable splits its trace into two runs (0-44 mm and 56-100 mm): what lies in
 // the break is judged against a bridge over it, not dropped as lying beyond the cable's end.
 TEST(Interference, ObjectInABreakBetweenRunsIsFound) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   Cloud cloud;
   const MeasuredCable A = cable_with_break(cloud, r, 44, 56, 9);
   // the strip's top face, 2 mm above the cable's top (beyond the bridge's wider own-surface band of 0.25 r),
   // 8 mm wide along the cable, 30 mm across it
   add_top_face(cloud, {46, -15, r + 2.0}, {54, 15, r + 2.0});
-  const KdTree tree(cloud.points);
-  const SurfaceIndex rigid;
   InterferenceParams p = params_seen_from({50, 0, 600});
-  const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+  const auto found = interferences_of_a(cloud, scene, A, p);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_FALSE(found[0].with.has_value());
   EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.2);
   // with the bridge switched off, the strip is past both runs' ends: nothing is reported
   p.bridge_break_diameters = 0.0;
   p.bridge_break_min_mm = 0.0;
-  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+  EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
 }
 
 // A thin cable (4 mm) broken for 30 mm (7.5 diameters) by a box lying over it: what hides a cable does not scale with
@@ -721,22 +704,19 @@ TEST(Interference, ObjectInABreakBetweenRunsIsFound) {
 // beside a 4.2 mm cable broke its trace for 6.1 diameters and was missed).
 TEST(Interference, AThinCablesLongBreakUnderAnObjectIsBridged) {
   const double r = 2.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   Cloud cloud;
   const MeasuredCable A = cable_with_break(cloud, r, 35, 65, 20);
   // the box's top face, 2 mm above the cable's top, 20 mm along the cable, 16 mm across it
   add_top_face(cloud, {40, -8, r + 2.0}, {60, 8, r + 2.0});
-  const KdTree tree(cloud.points);
-  const SurfaceIndex rigid;
   InterferenceParams p = params_seen_from({50, 0, 600});
-  const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+  const auto found = interferences_of_a(cloud, scene, A, p);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_FALSE(found[0].with.has_value());
   EXPECT_NEAR(found[0].min_distance_mm, 2.0, 0.2);
   // bridged up to 6 diameters alone (24 mm), the break is not: the box lies past both runs' ends
   p.bridge_break_min_mm = 0.0;
-  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+  EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
 }
 
 // Cable B (r 6) crosses over cable A (r 3) with a 0.8 mm gap; seen from above, B hides A there, so A's trace
@@ -776,8 +756,7 @@ TEST(Interference, CrossingOverABreakIsMeasuredOnTheBridge) {
 // model; from the runs alone it reads from their ends.
 TEST(Interference, BracketInABreakBetweenRunsIsMeasuredOnTheBridge) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  Scene scene = scene_of_cable_a(r);
   add_mesh(scene, "bracket", make_box({42, r + 0.3, -10}, {58, r + 20.0, 8}));
   Cloud cloud;
   const MeasuredCable A = cable_with_break(cloud, r, 38, 62, 8);
@@ -804,8 +783,7 @@ TEST(Interference, BracketInABreakBetweenRunsIsMeasuredOnTheBridge) {
 // scene_052: a false alarm at 1.0 mm). A box in the same break is still one.
 TEST(Interference, OwnUntracedStretchInABreakIsNotForeign) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   Cloud cloud;
   const MeasuredCable A = cable_with_break(cloud, r, 38, 62, 8);
   add_visible_cylinder(cloud, {40, 1.8, 0}, {60, 1.8, 0}, r);  // the untraced stretch, not in A.points
@@ -827,8 +805,7 @@ TEST(Interference, OwnUntracedStretchInABreakIsNotForeign) {
 // cable's 3.32, a false alarm at 1.0 mm again); a tube of the cable's radius fits it as closely, and it is the cable.
 TEST(Interference, OwnUntracedSliverInABreakIsNotForeign) {
   const double r = 3.3;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   Cloud cloud;
   const MeasuredCable A = cable_with_break(cloud, r, 38, 62, 8);
   const std::size_t first = cloud.size();
@@ -836,12 +813,10 @@ TEST(Interference, OwnUntracedSliverInABreakIsNotForeign) {
   std::mt19937 rng(5);
   std::normal_distribution<float> noise(0.0f, 0.25f);
   for (std::size_t i = first; i < cloud.size(); ++i) cloud.points[i].z() += noise(rng);
-  const KdTree tree(cloud.points);
-  const SurfaceIndex rigid;
   InterferenceParams p = params_seen_from({50, 0, 600});
-  EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+  EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
   p.own_stretch_fixed_rms_factor = 0.0;  // the free fit alone: the sliver is taken for a foreign object
-  const auto alone = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+  const auto alone = interferences_of_a(cloud, scene, A, p);
   ASSERT_EQ(alone.size(), 1u);
   EXPECT_FALSE(alone[0].with.has_value());
 }
@@ -976,8 +951,7 @@ TEST(Interference, AnUntracedBranchOfItsOwnCadIsNoForeignObject) {
 // found, the curtain alone is still no object.
 TEST(Interference, AnObjectTouchingAVeilIsFound) {
   const double r = 5.0;
-  Scene scene;
-  add_mesh(scene, "cable_A", make_cylinder({0, 0, 0}, {100, 0, 0}, r));
+  const Scene scene = scene_of_cable_a(r);
   const Eigen::Vector3d sensor(50, 0, 600);
   for (const bool sphere : {false, true}) {
     SCOPED_TRACE(sphere);
@@ -992,10 +966,8 @@ TEST(Interference, AnObjectTouchingAVeilIsFound) {
       }
     const Eigen::Vector3d centre(50, r + 4.5, 1.0);
     if (sphere) add_upper_sphere(cloud, centre, 2.5);
-    const KdTree tree(cloud.points);
-    const SurfaceIndex rigid;
     InterferenceParams p = params_seen_from(sensor);
-    const auto found = find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p);
+    const auto found = interferences_of_a(cloud, scene, A, p);
     if (!sphere) {
       EXPECT_TRUE(found.empty()) << "a veil was reported";
       continue;
@@ -1005,6 +977,6 @@ TEST(Interference, AnObjectTouchingAVeilIsFound) {
     EXPECT_LT((found[0].center - centre).norm(), 4.0);
     EXPECT_NEAR(found[0].min_distance_mm, (centre - Eigen::Vector3d(50, 0, 0)).norm() - 2.5 - r, 0.5);
     p.veil_facing_cos = 0.0;  // the cluster judged as a whole: a veil, and the sphere is missed
-    EXPECT_TRUE(find_interferences(cloud, tree, scene, rigid, {A}, 0, {}, p).empty());
+    EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
   }
 }
