@@ -585,7 +585,16 @@ std::vector<Interference> find_interferences(const Cloud& cloud, const KdTree& t
       } else {
         for (std::uint32_t i : grown) spots.push_back(cloud.points[i].cast<double>());
       }
-      if (spots.size() >= object_min) return true;
+      if (params.has_sensor && params.pixel_pitch_rad > 0) {
+        // the sensor's own pixels at the object's range (filter/pixel_pitch.hpp)
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (std::uint32_t i : grown) mean += cloud.points[i].cast<double>();
+        const double pixel_mm = params.pixel_pitch_rad * (mean / double(grown.size()) - params.sensor_position).norm();
+        if (spots.size() >= min_size && double(spots.size()) * pixel_mm * pixel_mm >= params.min_object_area_mm2)
+          return true;
+      } else if (spots.size() >= object_min) {
+        return true;
+      }
       if (grown.size() < cap) break;  // the whole object, and too few pixels
       if (cap >= kObjectCapGrowth * object_cap) return false;
     }

@@ -13,6 +13,7 @@
 #include "ewis/core/error.hpp"
 #include "ewis/core/parallel.hpp"
 #include "ewis/core/robust.hpp"
+#include "ewis/filter/pixel_pitch.hpp"
 #include "ewis/filter/resolution.hpp"
 #include "ewis/inspect/chain_distance.hpp"
 #include "ewis/inspect/fillet_fit.hpp"
@@ -246,6 +247,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
   if (!(res.resolution_mm > 0)) res.resolution_mm = 0.5;
   if (params.min_noise_inflation > 0.0)
     res.noise = estimate_noise_correlation(tree, res.resolution_mm, params.noise_correlation);
+  if (res.sensor_at_scan_origin) res.pixel_pitch_rad = angular_pixel_pitch_rad(tree, res.sensor_position, res.resolution_mm);
 
   // Which elements are cables (flexible) and which are rigid (everything the plan does not call a cable).
   std::vector<bool> is_cable(scene.elements.size(), false);
@@ -719,6 +721,7 @@ InspectionResult inspect(const Scene& scene, const InspectionPlan& plan, Cloud s
     InterferenceParams ip = params.interference;
     ip.clearance_mm = ci.clearance_mm;
     ip.resolution_mm = res.resolution_mm;
+    ip.pixel_pitch_rad = res.pixel_pitch_rad;
     ip.has_sensor = true;
     ip.sensor_position = res.sensor_position;
     InterferenceContext context;

@@ -154,7 +154,9 @@ std::string report_to_json(const InspectionResult& r, const InspectionPlan& plan
     << ", \"outlier_min_neighbors\": " << r.outlier_min_neighbors
     << ", \"occluded_from_origin\": " << num(r.sensor_origin_occluded_fraction, 4)
     << ", \"sensor_frame\": " << (r.sensor_at_scan_origin ? "true" : "false")
-    << ", \"noise_inflation\": " << num(r.noise.inflation, 2) << " },\n";
+    << ", \"noise_inflation\": " << num(r.noise.inflation, 2)
+    << ", \"pixel_pitch_mrad\": " << (r.pixel_pitch_rad > 0 ? num(1e3 * r.pixel_pitch_rad, 4) : std::string("null"))
+    << " },\n";
   o << "  \"elements\": [";
   // Plan order: cables and (when listed) rigid elements as the plan gives them.
   bool first = true;

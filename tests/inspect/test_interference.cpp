@@ -678,6 +678,52 @@ TEST(Interference, AWireClippingIsAnObjectByItsLength) {
   EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
 }
 
+// A ball lying 0.5 mm over the cable's top, seen as a depth image from 600 mm above (pixels 0.5 mm apart there, each
+// point moved by 0.15 mm in any direction). Such noise shortens the scan's nearest-neighbour resolution (0.4 mm taken
+// here), and counted against 16 mm^2 / 0.4^2 = 100 of those a ball 4.8 mm across (18 mm^2 in view: ~72 pixels) was
+// too small; counted in the sensor's pixels (InterferenceParams::pixel_pitch_rad) it is an object, and a ball 3.6 mm
+// across (10 mm^2) is not, either way.
+TEST(Interference, ASmallObjectIsCountedInTheSensorsPixels) {
+  const double r = 5.0;
+  const Scene scene = scene_of_cable_a(r);
+  const Eigen::Vector3d sensor(50, 0, 600);
+  const double pixel_rad = 0.5 / 600.0;
+  for (const double diameter : {4.8, 3.6}) {
+    Cloud cloud;
+    const MeasuredCable A = straight_cable_along_x(cloud, r);
+    const Eigen::Vector3d centre(50, 0, r + 0.5 + 0.5 * diameter);
+    std::mt19937 rng(11);
+    std::normal_distribution<double> noise(0.0, 0.15);
+    std::size_t pixels = 0;
+    for (int i = -8; i <= 8; ++i)
+      for (int j = -8; j <= 8; ++j) {
+        const Eigen::Vector3d ray = (Eigen::Vector3d(50 + 0.5 * i, 0.5 * j, 0) - sensor).normalized();
+        const Eigen::Vector3d oc = sensor - centre;
+        const double b = oc.dot(ray), c = oc.squaredNorm() - 0.25 * diameter * diameter;
+        if (b * b - c < 0) continue;
+        const Eigen::Vector3d hit = sensor + (-b - std::sqrt(b * b - c)) * ray;
+        cloud.points.push_back((hit + Eigen::Vector3d(noise(rng), noise(rng), noise(rng))).cast<float>());
+        ++pixels;
+      }
+    InterferenceParams p = params_seen_from(sensor);
+    p.resolution_mm = 0.4;
+    p.pixel_pitch_rad = pixel_rad;
+    const auto found = interferences_of_a(cloud, scene, A, p);
+    if (diameter > 4) {
+      EXPECT_GT(pixels, 64u);
+      EXPECT_LT(pixels, 100u);
+      ASSERT_EQ(found.size(), 1u);
+      EXPECT_FALSE(found[0].with.has_value());
+      EXPECT_GT(found[0].min_distance_mm, 0.5);  // its seen points: the ball's upper half, its bottom unseen
+      EXPECT_LT(found[0].min_distance_mm, 0.5 + diameter);
+    } else {
+      EXPECT_TRUE(found.empty()) << "a 10 mm^2 object";
+    }
+    p.pixel_pitch_rad = 0;  // the resolution for the pixel
+    EXPECT_TRUE(interferences_of_a(cloud, scene, A, p).empty());
+  }
+}
+
 // A foreign strip lying across the cable splits its trace into two runs (0-44 mm and 56-100 mm): what lies in
 // the break is judged against a bridge over it, not dropped as lying beyond the cable's end.
 TEST(Interference, ObjectInABreakBetweenRunsIsFound) {

@@ -71,6 +71,11 @@ struct InterferenceParams {
   // of 3 mm radius, grow to 100+ pixels; their parts near the cable held 18-33). 16 mm^2: 4 x 4 mm, 64 pixels at
   // 0.5 mm; smaller compact objects are not told apart from mismatch patches by one shot.
   double min_object_area_mm2 = 16.0;
+  // The sensor's angular pixel pitch (filter/pixel_pitch.hpp; 0: unknown). With it and the sensor known, an object's
+  // pixels count as (pitch x its range)^2 each against min_object_area_mm2, rather than resolution^2: noise across the
+  // rays shortens the resolution (0.44 mm for pixels 0.52 mm apart), which asked a small object to cover 1.4 times
+  // the area (bench/small_objects.py: balls under 5 mm were missed).
+  double pixel_pitch_rad = 0.0;
   // ... or, smaller (but at least the minimum cluster size), when it is at least min_object_length_mm long as the
   // sensor sees it (the widest spread of its pixels): a wire clipping (safety wire of 0.8 mm: 1-2 pixels wide) lying
   // over a cable is a classic foreign object, and no mismatch patch (a matching window's block, 3 mm across at most

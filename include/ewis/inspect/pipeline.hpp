@@ -195,6 +195,9 @@ struct InspectionResult {
   double outlier_radius_mm = 0.0;
   int outlier_min_neighbors = 0;
   double resolution_mm = 0.0;           // median nearest-neighbour distance of the filtered scan
+  // The sensor's angular pixel pitch measured on the scan (filter/pixel_pitch.hpp), radians; 0 when the scan is not
+  // a depth image from its origin.
+  double pixel_pitch_rad = 0.0;
   NoiseCorrelation noise;               // of the filtered scan (InspectParams::noise_correlation)
   Cloud cloud;                          // the filtered scan in CAD coordinates
   Eigen::Vector3d sensor_position = Eigen::Vector3d::Zero();  // CAD coordinates
