@@ -60,7 +60,8 @@ TEST(PixelPitch, ReadsTheSensorsPixelsWhateverTheNoiseAcrossTheRaysAndTheTilt) {
 }
 
 TEST(PixelPitch, NothingToCountReadsZero) {
-  const KdTree empty(std::vector<Eigen::Vector3f>{});
+  const std::vector<Eigen::Vector3f> none;  // the tree references its points: they outlive it
+  const KdTree empty(none);
   EXPECT_EQ(angular_pixel_pitch_rad(empty, Eigen::Vector3d::Zero(), 0.5), 0.0);
   // points too far apart for any disc to hold the minimum: isolated points, no surface
   std::vector<Eigen::Vector3f> sparse;
