@@ -105,8 +105,7 @@ def make_part(kind, rng):
         d, length = (rng.uniform(2.5, 4), rng.uniform(6, 14)) if kind == 'screw' else \
             (rng.uniform(0.8, 1.2), rng.uniform(15, 35))
         v, f = prism(circle(d / 2, 16), length)  # along z: turned to lie along x, its side down
-        v = v[:, [2, 0, 1]] - [length / 2, 0, 0] + [0, 0, d / 2]
-        f = f[:, ::-1]  # the axis swap mirrors: keep the faces outward
+        v = v[:, [2, 0, 1]] - [length / 2, 0, 0] + [0, 0, d / 2]  # a cyclic swap of the axes: a turn, faces still out
         return v, f, f'{kind} {d:.1f} x {length:.1f} mm'
     if kind == 'tie_tail':
         w, t, length = rng.uniform(2.5, 3.6), rng.uniform(1.0, 1.3), rng.uniform(12, 25)
@@ -168,7 +167,7 @@ def distance_to_triangles(points, verts, faces):
 
 
 def place(cable, part, cam, rng):
-    """The part put on the cable's camera side at a random spot: (world verts, spot, normal, gap asked)."""
+    """The part put on the cable's camera side at a random spot: (world verts, gap asked)."""
     line = np.array(cable['centerline'], float)
     seg = np.linalg.norm(np.diff(line, axis=0), axis=1)
     s = np.concatenate([[0], np.cumsum(seg)])
@@ -190,8 +189,7 @@ def place(cable, part, cam, rng):
     x = np.cos(spin) * t + np.sin(spin) * b
     y = np.cross(n, x)
     rot = np.stack([x, y, n], 1)
-    verts, faces, what = part
-    return verts @ rot.T + p + n * (rc + gap), p, n, gap
+    return part[0] @ rot.T + p + n * (rc + gap), gap
 
 
 def main():
@@ -236,7 +234,7 @@ def main():
         for attempt in range(40):
             cable = truth['cables'][rng.integers(len(truth['cables']))]
             part = make_part(kind, rng)
-            pv, p, n, gap = place(cable, part, cam, rng)
+            pv, gap = place(cable, part, cam, rng)
             samples = surface_samples(pv, part[1], 20.0, rng)
             others = faces[owner != cable['name']]
             if distance_to_triangles(samples, verts, others) < 1.0:
@@ -254,7 +252,7 @@ def main():
         all_v = np.concatenate([verts, pv])
         all_f = np.concatenate([faces, part[1] + len(verts)])
         srng = np.random.default_rng([a.seed, i])
-        pts, surface, mixed = ss.scan(all_v, all_f, np.array(truth['camera_to_cad']), a, srng)
+        pts, _, _ = ss.scan(all_v, all_f, np.array(truth['camera_to_cad']), a, srng)
         # the part's points in the scan (camera frame -> CAD)
         c2w = np.array(truth['camera_to_cad'])
         w = pts[:, :3].astype(float) @ c2w[:3, :3].T + c2w[:3, 3]
