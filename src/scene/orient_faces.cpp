@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -36,6 +37,32 @@ struct EdgeUse {
   std::uint32_t triangle;
   bool forward;  // wound lo -> hi
 };
+
+// Whether every edge of the triangles `members` (their welded corners; `flip` the winding each is turned to) is used
+// by exactly two of them, wound opposite ways along it: a closed, consistently wound surface on its own, whatever
+// other triangles of the element share its edges.
+bool closed_by_own_edges(const std::vector<std::uint32_t>& welded, const std::vector<std::uint32_t>& members,
+                         const std::vector<std::uint8_t>& flip) {
+  std::vector<EdgeUse> edges;
+  edges.reserve(3 * members.size());
+  for (std::uint32_t t : members)
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t u = welded[3 * std::size_t(t) + std::size_t(k)], v = welded[3 * std::size_t(t) + std::size_t((k + 1) % 3)];
+      if (u == v) continue;
+      if (flip[t]) std::swap(u, v);
+      edges.push_back({std::min(u, v), std::max(u, v), t, u < v});
+    }
+  std::sort(edges.begin(), edges.end(), [](const EdgeUse& a, const EdgeUse& b) {
+    return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.triangle < b.triangle;
+  });
+  for (std::size_t i = 0; i < edges.size(); i += 2) {
+    if (i + 1 >= edges.size()) return false;
+    const EdgeUse &a = edges[i], &b = edges[i + 1];
+    if (a.lo != b.lo || a.hi != b.hi || a.forward == b.forward) return false;
+    if (i + 2 < edges.size() && edges[i + 2].lo == a.lo && edges[i + 2].hi == a.hi) return false;
+  }
+  return true;
+}
 
 struct ElementRepair {
   std::size_t flipped = 0, components = 0, open = 0;
@@ -232,8 +259,15 @@ ElementRepair orient_element(Scene& scene, std::size_t first, std::size_t count)
       }
       volume6 += a.dot(b.cross(c));
     }
+    // A solid that touches another along an edge or a face of the same element (a plate and the wall standing on it,
+    // written with shared corners) has edges of three or more triangles there, which link nothing, yet each of its own
+    // edges is used by two of its own triangles, wound opposite ways: closed all the same. Taken as open, it was made
+    // two-sided: a 6 mm plate's underside, turned up, held a registration started 5 mm low 6 mm under the plate.
+    // (A surface written two-sided also closes so, but encloses nothing: its volume is no more than rounding.)
+    const bool closed_alone = !closed && closed_by_own_edges(welded, members, flip) &&
+                              std::abs(volume6) > 1e-6 * std::pow(area_turned + area_kept, 1.5);
     bool invert;
-    if (closed && volume6 != 0.0) {
+    if ((closed && volume6 != 0.0) || closed_alone) {
       invert = volume6 < 0.0;
     } else {
       ++out.open;

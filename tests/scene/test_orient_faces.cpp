@@ -175,6 +175,35 @@ TEST(OrientFaces, OnlyOpenPiecesGetASecondSideAndLaterElementsMoveAlong) {
   EXPECT_LT(normal(s, 14).z(), 0.0);
 }
 
+TEST(OrientFaces, SolidsTouchingAlongAnEdgeStayClosed) {
+  // One element, as a structure is often written: a 6 mm plate and a wall standing on it along its edge, with the
+  // corners they share written once (the edges there are used by four triangles). Each box is closed on its own:
+  // outward, nothing two-sided (the plate's underside, added facing up, held a registration 6 mm low).
+  for (const bool inside_out : {false, true}) {
+    const ewis::Mesh plate = ewis::make_box(Vector3d(-300, -240, -6), Vector3d(300, 240, 0));
+    ewis::Mesh wall = ewis::make_box(Vector3d(-300, -240, 0), Vector3d(300, -226, 40));
+    if (inside_out) reverse(wall);
+    ewis::Mesh both = plate;
+    for (const Eigen::Vector3i& t : wall.triangles)
+      both.triangles.push_back(t + Eigen::Vector3i::Constant(int(both.vertices.size())));
+    both.vertices.insert(both.vertices.end(), wall.vertices.begin(), wall.vertices.end());
+    // the wall's corners at z = 0 are the plate's: one vertex each
+    for (Eigen::Vector3i& t : both.triangles)
+      for (int k = 0; k < 3; ++k)
+        for (int v = 0; v < int(plate.vertices.size()); ++v)
+          if (t[k] >= int(plate.vertices.size()) && both.vertices[std::size_t(t[k])] == plate.vertices[std::size_t(v)]) t[k] = v;
+    ewis::Scene s = scene_of("structure", both);
+    const ewis::OrientationRepair r = ewis::orient_faces_outward(s);
+    EXPECT_EQ(r.components, 2u) << inside_out;
+    EXPECT_EQ(r.open_components, 0u) << inside_out;
+    EXPECT_EQ(r.two_sided_triangles, 0u) << inside_out;
+    EXPECT_EQ(r.flipped_triangles, inside_out ? wall.triangles.size() : 0u);
+    ASSERT_EQ(s.triangles.size(), 24u);
+    for (std::size_t t = 0; t < 24; ++t)
+      EXPECT_GT(normal(s, t).dot(centroid(s, t) - (t < 12 ? Vector3d(0, 0, -3) : Vector3d(0, -233, 20))), 0.0) << t;
+  }
+}
+
 TEST(OrientFaces, EachElementAndEachPieceOnItsOwn) {
   // One element of two boxes (one inside out), and an outward element after it: only the wrong box turns.
   ewis::Mesh a = ewis::make_box(Vector3d(0, 0, 0), Vector3d(10, 10, 10));
