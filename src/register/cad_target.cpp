@@ -89,6 +89,15 @@ Cloud sample_rigid_view(const CadTarget& target, const Eigen::Vector3f& lo, cons
   return select(t, keep);
 }
 
+Cloud sample_cable_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                        const Eigen::Vector3d* eye) {
+  const Cloud& c = target.cables;
+  if (!c.has_normals()) return {};
+  const std::vector<std::uint32_t> keep = parallel_select(
+      c.size(), [&](std::size_t i) { return inside(c.points[i], lo, hi) && (!eye || facing(c.points[i], c.normals[i], *eye)); });
+  return select(c, keep);
+}
+
 Cloud sample_rigid_all(const CadTarget& target) {
   if (!target.rigid.empty() || !target.scene) return target.rigid;
   return draw(target, {});

@@ -100,14 +100,15 @@ double support(const RegistrationResult& reg, const FreeSpaceCount& c) { return 
 
 // The CAD samples a pass may match: facing the sensor (when the scan is in its sensor's frame: a scanned plate's
 // top must not lock onto the CAD plate's bottom face) and inside the box of the scan at `pose` grown by
-// `margin_mm` (nothing farther can be a correspondence). Owns its k-d tree.
+// `margin_mm` (nothing farther can be a correspondence); the rigid elements', with `with_cables` the cables' too.
+// Owns its k-d tree.
 struct TargetView {
   std::unique_ptr<Cloud> cloud;  // held apart: the tree refers to its points, which a move of the view must not move
   std::unique_ptr<KdTree> tree;
 };
 
 TargetView view_of(const CadTarget& target, const std::vector<Eigen::Vector3f>& source, const Pose& pose,
-                   bool cull_back_faces, const Eigen::Vector3d& viewpoint, double margin_mm) {
+                   bool cull_back_faces, const Eigen::Vector3d& viewpoint, double margin_mm, bool with_cables = false) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
   for (const auto& p : source) {
     const Eigen::Vector3d q = pose * p.cast<double>();
@@ -118,6 +119,11 @@ TargetView view_of(const CadTarget& target, const std::vector<Eigen::Vector3f>& 
   const Eigen::Vector3d eye = pose * viewpoint;
   TargetView v;
   v.cloud = std::make_unique<Cloud>(sample_rigid_view(target, blo, bhi, cull_back_faces ? &eye : nullptr));
+  if (with_cables) {  // the cables' samples after the rigid ones
+    const Cloud c = sample_cable_view(target, blo, bhi, cull_back_faces ? &eye : nullptr);
+    v.cloud->points.insert(v.cloud->points.end(), c.points.begin(), c.points.end());
+    v.cloud->normals.insert(v.cloud->normals.end(), c.normals.begin(), c.normals.end());
+  }
   // In its leaf order, with the tree the sort built: the tree uses the points in place (issue 8: peak memory).
   v.tree = std::make_unique<KdTree>(sort_for_search(*v.cloud));
   return v;
@@ -170,10 +176,11 @@ constexpr double kZoneGrowCapMm = 20.0;
 // to 0.58 against the right start's 0.98).
 // `grow_cap_mm`: the zones around the cables grow in the coarse pass by the start's uncertainty, at most this much
 // (0: not grown; see below).
+// `cables`: the coarse pass matches the cables' CAD too, over every point (ScanToCadParams::local_retry_on_cables).
 Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, const Pose& start,
            double expected_error_mm, const ScanToCadParams& params, const ProgressFn& progress,
            const RangeBins* bins, double beaten_below = 0.0, double grow_cap_mm = kZoneGrowCapMm,
-           ScanSurfaces* surfaces = nullptr) {
+           ScanSurfaces* surfaces = nullptr, bool cables = false) {
   IcpParams icp = params.icp;
   const double final_d = final_distance_mm(icp, target);
   icp.final_max_distance_mm = final_d;
@@ -183,8 +190,10 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
 
   // While the pose is uncertain, the zone around each cable grows by that uncertainty (bounded, so that a
   // scene with many cables keeps enough rigid points).
+  const bool on_cables = cables && target.cable_tree && target.cables.has_normals();
   std::vector<std::uint32_t> keep =
-      points_away_from_cables(scan, start, target, std::min(expected_error_mm, grow_cap_mm));
+      on_cables ? parallel_select(scan.size(), [](std::size_t) { return true; })
+                : points_away_from_cables(scan, start, target, std::min(expected_error_mm, grow_cap_mm));
   if (keep.size() < std::max<std::size_t>(50, scan.size() / 10)) keep = points_away_from_cables(scan, start, target, 0.0);
   Run run;
   if (keep.size() < 6) return run;
@@ -200,9 +209,16 @@ Run refine(const std::vector<Eigen::Vector3f>& scan, const CadTarget& target, co
   IcpParams coarse_icp = icp;
   coarse_icp.final_max_distance_mm = std::max(3.0 * final_d, 4.0);
   coarse_icp.coarse_distance_mm = 4.0 * final_d;
-  IcpMemory memory;  // the fine pass goes on from the coarse pass's correspondences
-  const RegistrationResult coarse =
-      align_point_to_plane(scan, *view.cloud, *view.tree, start, coarse_icp, keep, progress, &memory);
+  IcpMemory memory;  // the fine pass goes on from the coarse pass's correspondences (on the same view)
+  TargetView with_cables;
+  if (on_cables)
+    with_cables = view_of(target, scan, start, cull, params.icp.source_viewpoint, std::max(coarse_reach, final_d) + 1.0,
+                          true);
+  const TargetView& coarse_view = on_cables ? with_cables : view;
+  IcpMemory coarse_memory;
+  const RegistrationResult coarse = align_point_to_plane(scan, *coarse_view.cloud, *coarse_view.tree, start, coarse_icp,
+                                                         keep, progress, on_cables ? &coarse_memory : &memory);
+  with_cables = TargetView{};
   if (coarse.fitness < beaten_below) {
     run.beaten = true;
     run.reg = coarse;
@@ -320,9 +336,18 @@ ScanToCadResult register_subsample(const std::vector<Eigen::Vector3f>& scan, dou
                              0.0, kZoneGrowCapMm, &surfaces);
     consider(local, false);
     ok = fits_as_initial(local);
+    // (ScanToCadParams::local_retry_on_cables)
+    if (!ok && params.local_retry_on_cables && target.cable_tree) {
+      const Run anchored = refine(scan, target, *initial_scan_to_cad, params.icp.expected_error_mm, params, progress,
+                                  bins, 0.0, kZoneGrowCapMm, &surfaces, true);
+      if (support(anchored.reg, anchored.free_space) > support(res.registration, res.free_space)) {
+        consider(anchored, false);
+        ok = fits_as_initial(anchored);
+      }
+    }
     // (ScanToCadParams::local_retry_near_mm): kept only under the box rule's bound on the CAD in front. Tried too
     // where a trusted result puts more of the CAD in front than that bound (right poses: 0-1.9 %): slid along a plate.
-    const bool slid = ok && local.free_space.fraction() > params.box_trusted_in_front_fraction;
+    const bool slid = ok && res.free_space.fraction() > params.box_trusted_in_front_fraction;
     if ((!ok || slid) && params.local_retry_near_mm > 0.0 && params.icp.expected_error_mm > params.local_retry_near_mm) {
       const Run near = refine(scan, target, *initial_scan_to_cad, params.local_retry_near_mm, params, progress, bins,
                               0.0, kZoneGrowCapMm, &surfaces);

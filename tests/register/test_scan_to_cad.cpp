@@ -115,6 +115,37 @@ TEST(ScanToCad, MovedCableDoesNotPullThePose) {
   EXPECT_LT(e1.mm, e2.mm);
 }
 
+// A view the plate fills, with only the cable on it (no block, bracket or connector): the rigid CAD fixes the height
+// and the tilt, nothing along the plate. The coarse pass matched to the cables' CAD too finds the pose along the plate
+// and the turn about its normal, which the fine pass on the plate alone keeps; on the rigid elements alone the
+// pose is not found (ScanToCadParams::local_retry_on_cables).
+TEST(ScanToCad, ThePlateAloneInViewIsFixedByTheCable) {
+  const CadTarget& t = cad_target();
+  for (std::uint64_t seed = 31; seed <= 31; ++seed) {
+    const test::SimScan sim = test::simulate_scan(test::make_scene(), seed, 0.2, 0.1);
+    Cloud window;  // the scan's points within x 120-330, y 95-185 of the CAD
+    for (const Eigen::Vector3f& p : sim.scan.points) {
+      const Eigen::Vector3d q = sim.camera_to_cad * p.cast<double>();
+      if (q.x() > 120 && q.x() < 330 && q.y() > 95 && q.y() < 185) window.points.push_back(p);
+    }
+    const Pose init = off_at_scene(sim.camera_to_cad, seed, 3.0, 10.0);
+    const ScanToCadResult r = register_scan_to_cad(window, t, init);
+    const PoseError e = pose_error(r.registration.source_to_target, sim.camera_to_cad);
+    ScanToCadParams rigid_only;
+    rigid_only.local_retry_on_cables = false;
+    rigid_only.global_fallback = false;  // (which turned these views 84-180 deg: nothing but a plate to find)
+    const ScanToCadResult r0 = register_scan_to_cad(window, t, init, rigid_only);
+    const PoseError e0 = pose_error(r0.registration.source_to_target, sim.camera_to_cad);
+    std::cout << "plate alone, seed " << seed << ": with the cables " << e.deg << " deg " << e.mm << " mm (global "
+              << r.used_global << "); rigid only " << e0.deg << " deg " << e0.mm << " mm (global " << r0.used_global
+              << ")\n";
+    EXPECT_TRUE(r.valid);
+    EXPECT_LT(e.deg, 0.1);
+    EXPECT_LT(e.mm, 0.3);
+    EXPECT_GT(e0.deg + e0.mm, 10.0 * (e.deg + e.mm));
+  }
+}
+
 // A background the CAD does not model (a floor 150 mm under the plate, larger than the scene): with the
 // initial pose, what it maps beyond the CAD's box grown by the expected error is left out. Before, on the
 // second scanner's campaign with such a floor, the floor pulled the ICP 6 mm off and, matched onto the plate,

@@ -66,6 +66,10 @@ bool has_rigid(const CadTarget& target);
 Cloud sample_rigid_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
                         const Eigen::Vector3d* eye);
 
+// The cable samples inside the box [lo, hi] and, when `eye` is given, facing it (as sample_rigid_view).
+Cloud sample_cable_view(const CadTarget& target, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                        const Eigen::Vector3d* eye);
+
 // Every rigid sample: the up-front ones, or drawn now.
 Cloud sample_rigid_all(const CadTarget& target);
 
